@@ -1,0 +1,234 @@
+// The ray core: voxel-by-voxel traversal (3D-DDA) and exact ray-isosurface intersection in each cell
+// (paper §5.1). Compiled as GLSL by the passes, as C++ by the host tests, and as CUDA by cuda_ref/.
+//
+// The includer defines, before including this file:
+//   float rcFetch(ivec3 p)   the sample at integer index p (unfiltered), in texture units.
+// All positions are in index space: sample (i,j,k) sits at (i,j,k); cell c spans [c, c+1].
+#ifndef ISO_RAY_CORE_H
+#define ISO_RAY_CORE_H
+
+#include "portable.h"
+
+#ifndef ISO_GLSL
+namespace iso::rc {
+#endif
+
+#define RC_INFINITY 3.0e38f
+#define RC_BISECTIONS 22
+
+struct RcHit {
+    float t;    // ray parameter of the hit (world distance); < 0 when nothing was hit
+    ivec3 cell; // lowest corner of the cell that holds the hit
+    vec3 pos;   // index-space position of the hit
+};
+
+// Clips [t0, t1] to the box. Zero direction components are handled explicitly: IEEE division would
+// give 0 * inf = NaN for rays that lie exactly in a slab plane, and such rays count as inside.
+RC_FN bool rcClipBox(vec3 o, vec3 d, vec3 bmin, vec3 bmax, RC_INOUT(float) t0, RC_INOUT(float) t1) {
+    for (int a = 0; a < 3; ++a) {
+        if (d[a] == 0.0) {
+            if (o[a] < bmin[a] || o[a] > bmax[a]) return false;
+        } else {
+            float inv = 1.0f / d[a];
+            float ta = (bmin[a] - o[a]) * inv;
+            float tb = (bmax[a] - o[a]) * inv;
+            t0 = max(t0, min(ta, tb));
+            t1 = min(t1, max(ta, tb));
+        }
+    }
+    return t0 <= t1;
+}
+
+// Coefficients (c0, c1, c2, c3) of g(s) = f(a + s*d) - iso, where f is the trilinear interpolant of
+// the cell's corners c[i + 2j + 4k] and a is the local entry point. Taken from the 8 corner values,
+// so the cubic is the interpolant itself, not a fit: interpolate along x (linear in s), then y
+// (quadratic), then z (cubic).
+RC_FN vec4 rcCellCubic(float c[8], vec3 a, vec3 d, float iso) {
+    vec2 e[4];
+    for (int jk = 0; jk < 4; ++jk) {
+        float c0 = c[2 * jk];
+        float dc = c[2 * jk + 1] - c0;
+        e[jk] = vec2(c0 + a.x * dc, d.x * dc);
+    }
+    vec3 q[2];
+    for (int k = 0; k < 2; ++k) {
+        vec2 e0 = e[2 * k];
+        vec2 de = e[2 * k + 1] - e0;
+        q[k] = vec3(e0.x + a.y * de.x, e0.y + a.y * de.y + d.y * de.x, d.y * de.y);
+    }
+    vec3 dq = q[1] - q[0];
+    return vec4(q[0].x + a.z * dq.x - iso, q[0].y + a.z * dq.y + d.z * dq.x,
+                q[0].z + a.z * dq.z + d.z * dq.y, d.z * dq.z);
+}
+
+RC_FN float rcCubicAt(vec4 c, float s) { return ((c.w * s + c.z) * s + c.y) * s + c.x; }
+
+// The first root of g in the monotone piece [lo, hi], given g's values at the ends.
+// "f >= iso is inside", so an exact zero is a hit and a sign change is judged by g >= 0.
+RC_FN bool rcRootInPiece(vec4 c, float lo, float hi, float glo, float ghi, RC_INOUT(float) s) {
+    if (glo == 0.0) {
+        s = lo;
+        return true;
+    }
+    if ((glo >= 0.0) == (ghi >= 0.0)) return false;
+    // Bisection keeps the bracket (and so the first-root guarantee) in float; a final secant
+    // step between the bracket ends removes most of the remaining error.
+    bool loInside = glo >= 0.0;
+    for (int i = 0; i < RC_BISECTIONS; ++i) {
+        float mid = 0.5f * (lo + hi);
+        float gm = rcCubicAt(c, mid);
+        if ((gm >= 0.0) == loInside) {
+            lo = mid;
+            glo = gm;
+        } else {
+            hi = mid;
+            ghi = gm;
+        }
+    }
+    float denom = glo - ghi;
+    s = denom != 0.0 ? clamp(lo + (hi - lo) * glo / denom, lo, hi) : lo;
+    return true;
+}
+
+// First root of the cubic on [0, len] by Marmitt et al.: the roots of g' split [0, len] into
+// monotone pieces, which are tested in order and the first with a sign change is refined.
+RC_FN bool rcFirstRoot(vec4 c, float len, RC_INOUT(float) s) {
+    float split0 = len;
+    float split1 = len;
+    float qa = 3.0f * c.w;
+    float qb = 2.0f * c.z;
+    float qc = c.y;
+    if (qa != 0.0) {
+        float disc = qb * qb - 4.0f * qa * qc;
+        if (disc > 0.0) {
+            // Stable quadratic roots (no cancellation between -b and the square root).
+            float qq = -0.5f * (qb + (qb >= 0.0 ? sqrt(disc) : -sqrt(disc)));
+            float r0 = qq / qa;
+            float r1 = qq != 0.0 ? qc / qq : r0;
+            split0 = min(r0, r1);
+            split1 = max(r0, r1);
+        }
+    } else if (qb != 0.0) {
+        split0 = -qc / qb;
+    }
+    if (!(split0 > 0.0 && split0 < len)) split0 = len;
+    if (!(split1 > 0.0 && split1 < len)) split1 = len;
+    if (split1 < split0) {
+        float tmp = split0;
+        split0 = split1;
+        split1 = tmp;
+    }
+    float g0 = c.x;
+    float g1 = rcCubicAt(c, split0);
+    if (rcRootInPiece(c, 0.0, split0, g0, g1, s)) return true;
+    float g2 = rcCubicAt(c, split1);
+    if (rcRootInPiece(c, split0, split1, g1, g2, s)) return true;
+    float g3 = rcCubicAt(c, len);
+    if (rcRootInPiece(c, split1, len, g2, g3, s)) return true;
+    if (g3 == 0.0) {
+        s = len;
+        return true;
+    }
+    return false;
+}
+
+RC_FN void rcFetchCorners(ivec3 cell, RC_OUT_ARRAY(float) c[8]) {
+    for (int k = 0; k < 2; ++k)
+        for (int j = 0; j < 2; ++j)
+            for (int i = 0; i < 2; ++i) c[i + 2 * j + 4 * k] = rcFetch(cell + ivec3(i, j, k));
+}
+
+// Trilinear interpolation at an index-space point, clamped to the grid.
+RC_FN float rcSample(vec3 p, ivec3 dims) {
+    vec3 q = clamp(p, vec3(0.0), vec3(dims - ivec3(1)));
+    ivec3 cell = min(ivec3(floor(q)), max(dims - ivec3(2), ivec3(0)));
+    vec3 w = q - vec3(cell);
+    float c[8];
+    rcFetchCorners(cell, c);
+    float x00 = c[0] + w.x * (c[1] - c[0]);
+    float x10 = c[2] + w.x * (c[3] - c[2]);
+    float x01 = c[4] + w.x * (c[5] - c[4]);
+    float x11 = c[6] + w.x * (c[7] - c[6]);
+    float y0 = x00 + w.y * (x10 - x00);
+    float y1 = x01 + w.y * (x11 - x01);
+    return y0 + w.z * (y1 - y0);
+}
+
+// Index-space gradient from the 6 neighbouring samples of the interpolant (paper §4.3).
+RC_FN vec3 rcGradient(vec3 p, ivec3 dims) {
+    return 0.5f * vec3(rcSample(p + vec3(1, 0, 0), dims) - rcSample(p - vec3(1, 0, 0), dims),
+                       rcSample(p + vec3(0, 1, 0), dims) - rcSample(p - vec3(0, 1, 0), dims),
+                       rcSample(p + vec3(0, 0, 1), dims) - rcSample(p - vec3(0, 0, 1), dims));
+}
+
+// The parameter where the ray leaves the current cell along each axis. Computed from the cell
+// index each time rather than accumulated, so no error builds up over long traversals.
+RC_FN vec3 rcCellExit(vec3 o, vec3 invD, ivec3 cell, ivec3 stepDir) {
+    vec3 tExit;
+    for (int a = 0; a < 3; ++a) {
+        if (stepDir[a] == 0) {
+            tExit[a] = RC_INFINITY;
+        } else {
+            float plane = float(cell[a] + (stepDir[a] > 0 ? 1 : 0));
+            tExit[a] = (plane - o[a]) * invD[a];
+        }
+    }
+    return tExit;
+}
+
+// The first hit of the ray o + t*d (t >= 0) with {f = iso} inside the box [bmin, bmax].
+// Cells are visited in ray order by a 3D-DDA; all axes whose boundaries coincide are stepped
+// together, so rays through edges and corners visit exactly the cells they cross.
+RC_FN RcHit rcFirstHit(vec3 o, vec3 d, vec3 bmin, vec3 bmax, ivec3 dims, float iso) {
+    RcHit hit;
+    hit.t = -1.0;
+    hit.cell = ivec3(0);
+    hit.pos = vec3(0.0);
+    float t0 = 0.0;
+    float t1 = RC_INFINITY;
+    if (!rcClipBox(o, d, bmin, bmax, t0, t1)) return hit;
+
+    ivec3 cellMax = max(dims - ivec3(2), ivec3(0));
+    ivec3 lowCell = clamp(ivec3(floor(bmin)), ivec3(0), cellMax);
+    ivec3 highCell = clamp(ivec3(ceil(bmax)) - ivec3(1), ivec3(0), cellMax);
+    ivec3 cell = clamp(ivec3(floor(o + t0 * d)), lowCell, highCell);
+    ivec3 stepDir = ivec3(d.x > 0.0 ? 1 : (d.x < 0.0 ? -1 : 0), d.y > 0.0 ? 1 : (d.y < 0.0 ? -1 : 0),
+                          d.z > 0.0 ? 1 : (d.z < 0.0 ? -1 : 0));
+    vec3 invD = vec3(d.x != 0.0 ? 1.0f / d.x : 0.0, d.y != 0.0 ? 1.0f / d.y : 0.0,
+                     d.z != 0.0 ? 1.0f / d.z : 0.0);
+    float tIn = t0;
+    int maxSteps = dims.x + dims.y + dims.z + 3;
+    for (int n = 0; n < maxSteps; ++n) {
+        vec3 tExit = rcCellExit(o, invD, cell, stepDir);
+        float tOut = min(min(min(tExit.x, tExit.y), tExit.z), t1);
+        float c[8];
+        rcFetchCorners(cell, c);
+        float lo = min(min(min(c[0], c[1]), min(c[2], c[3])), min(min(c[4], c[5]), min(c[6], c[7])));
+        float hi = max(max(max(c[0], c[1]), max(c[2], c[3])), max(max(c[4], c[5]), max(c[6], c[7])));
+        // The interpolant stays within its corners' range, so most cells are rejected here.
+        // A non-finite corner fails both comparisons and the cell holds no surface.
+        if (lo <= iso && iso <= hi && tOut >= tIn) {
+            vec3 a = o + tIn * d - vec3(cell);
+            vec4 cubic = rcCellCubic(c, a, d, iso);
+            float s;
+            if (rcFirstRoot(cubic, tOut - tIn, s)) {
+                hit.t = tIn + s;
+                hit.cell = cell;
+                hit.pos = o + hit.t * d;
+                return hit;
+            }
+        }
+        if (tOut >= t1) break;
+        for (int a = 0; a < 3; ++a)
+            if (tExit[a] <= tOut) cell[a] += stepDir[a];
+        if (any(lessThan(cell, lowCell)) || any(greaterThan(cell, highCell))) break;
+        tIn = tOut;
+    }
+    return hit;
+}
+
+#ifndef ISO_GLSL
+} // namespace iso::rc
+#endif
+
+#endif
