@@ -267,8 +267,9 @@ TEST_CASE("oracle: sphere distance fields agree with the analytic sphere for cen
                     {"anisotropic", analytic::sphereAnisotropic(80, 28.0)},
                     {"u16", analytic::sphereU16(48, 16.0)},
                     {"spacing", analytic::sphereDistance(40, 17.0, {1.5, 1.2, 1.0})}};
-    for (auto& [name, s] : cases) {
-        INFO(name);
+    for (const Case& c : cases) {
+        INFO(c.name);
+        const auto& s = c.s;
         const double voxel = std::min({s.vol.spacing.x, s.vol.spacing.y, s.vol.spacing.z});
         const int w = 48, h = 40;
         const Camera cam = frameVolume(s.vol, w, h);

@@ -4,6 +4,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <initializer_list>
 #include <map>
@@ -21,36 +22,22 @@ struct NrrdType {
 
 // The NRRD type names (with teem's synonyms) this project reads, mapped to one spelling each.
 std::optional<NrrdType> nrrdType(std::string_view name) {
-    static const std::map<std::string_view, NrrdType, std::less<>> types = {
-        {"uchar", {"uint8", 1}},
-        {"unsigned char", {"uint8", 1}},
-        {"uint8", {"uint8", 1}},
-        {"uint8_t", {"uint8", 1}},
-        {"short", {"int16", 2}},
-        {"short int", {"int16", 2}},
-        {"signed short", {"int16", 2}},
-        {"signed short int", {"int16", 2}},
-        {"int16", {"int16", 2}},
-        {"int16_t", {"int16", 2}},
-        {"ushort", {"uint16", 2}},
-        {"unsigned short", {"uint16", 2}},
-        {"unsigned short int", {"uint16", 2}},
-        {"uint16", {"uint16", 2}},
-        {"uint16_t", {"uint16", 2}},
-        {"float", {"float", 4}},
-        {"uint", {"uint32", 4}},
-        {"unsigned int", {"uint32", 4}},
-        {"uint32", {"uint32", 4}},
-        {"uint32_t", {"uint32", 4}},
-        {"ulonglong", {"uint64", 8}},
-        {"unsigned long long", {"uint64", 8}},
-        {"unsigned long long int", {"uint64", 8}},
-        {"uint64", {"uint64", 8}},
-        {"uint64_t", {"uint64", 8}},
+    struct Entry {
+        NrrdType type;
+        std::array<std::string_view, 6> names;
     };
-    const auto it = types.find(name);
-    if (it == types.end()) return std::nullopt;
-    return it->second;
+    static constexpr Entry table[] = {
+        {{"uint8", 1}, {"uchar", "unsigned char", "uint8", "uint8_t"}},
+        {{"int16", 2}, {"short", "short int", "signed short", "signed short int", "int16", "int16_t"}},
+        {{"uint16", 2}, {"ushort", "unsigned short", "unsigned short int", "uint16", "uint16_t"}},
+        {{"float", 4}, {"float"}},
+        {{"uint32", 4}, {"uint", "unsigned int", "uint32", "uint32_t"}},
+        {{"uint64", 8}, {"ulonglong", "unsigned long long", "unsigned long long int", "uint64", "uint64_t"}},
+    };
+    if (name.empty()) return std::nullopt;
+    for (const Entry& e : table)
+        if (std::find(e.names.begin(), e.names.end(), name) != e.names.end()) return e.type;
+    return std::nullopt;
 }
 
 struct NrrdData {

@@ -34,6 +34,8 @@ using glm::abs;
 using glm::any;
 using glm::ceil;
 using glm::greaterThan;
+using glm::isinf;
+using glm::isnan;
 using glm::lessThan;
 using glm::clamp;
 using glm::dot;

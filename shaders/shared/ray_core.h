@@ -161,68 +161,104 @@ RC_FN vec3 rcGradient(vec3 p, ivec3 dims) {
                        rcSample(p + vec3(0, 0, 1), dims) - rcSample(p - vec3(0, 0, 1), dims));
 }
 
-// The parameter where the ray leaves the current cell along each axis. Computed from the cell
-// index each time rather than accumulated, so no error builds up over long traversals.
-RC_FN vec3 rcCellExit(vec3 o, vec3 invD, ivec3 cell, ivec3 stepDir) {
+// Voxel-by-voxel traversal state (Amanatides-Woo 3D-DDA) over the cells of a box.
+struct RcDda {
+    ivec3 cell;     // current cell (its lowest corner)
+    ivec3 stepDir;  // -1, 0 or +1 per axis
+    vec3 invD;      // 1 / d, 0 where d is 0
+    ivec3 lowCell;  // cells the box touches
+    ivec3 highCell;
+    float tIn;      // where the ray enters the current cell
+    float tEnd;     // where it leaves the box
+};
+
+// Starts the traversal at the ray's entry into the box (or at t = 0 inside it).
+RC_FN bool rcDdaBegin(vec3 o, vec3 d, vec3 bmin, vec3 bmax, ivec3 dims, RC_OUT(RcDda) s) {
+    float t0 = 0.0;
+    float t1 = RC_INFINITY;
+    s.tIn = 0.0;
+    s.tEnd = -1.0;
+    s.cell = ivec3(0);
+    s.stepDir = ivec3(0);
+    s.invD = vec3(0.0);
+    s.lowCell = ivec3(0);
+    s.highCell = ivec3(-1);
+    if (!rcClipBox(o, d, bmin, bmax, t0, t1)) return false;
+    ivec3 cellMax = max(dims - ivec3(2), ivec3(0));
+    s.lowCell = clamp(ivec3(floor(bmin)), ivec3(0), cellMax);
+    s.highCell = clamp(ivec3(ceil(bmax)) - ivec3(1), ivec3(0), cellMax);
+    s.cell = clamp(ivec3(floor(o + t0 * d)), s.lowCell, s.highCell);
+    s.stepDir = ivec3(d.x > 0.0 ? 1 : (d.x < 0.0 ? -1 : 0), d.y > 0.0 ? 1 : (d.y < 0.0 ? -1 : 0),
+                      d.z > 0.0 ? 1 : (d.z < 0.0 ? -1 : 0));
+    s.invD = vec3(d.x != 0.0 ? 1.0f / d.x : 0.0, d.y != 0.0 ? 1.0f / d.y : 0.0, d.z != 0.0 ? 1.0f / d.z : 0.0);
+    s.tIn = t0;
+    s.tEnd = t1;
+    return true;
+}
+
+// Where the ray leaves the current cell along each axis. Computed from the cell index each time
+// rather than accumulated, so no error builds up over long traversals.
+RC_FN vec3 rcDdaAxisExits(vec3 o, RcDda s) {
     vec3 tExit;
     for (int a = 0; a < 3; ++a) {
-        if (stepDir[a] == 0) {
+        if (s.stepDir[a] == 0) {
             tExit[a] = RC_INFINITY;
         } else {
-            float plane = float(cell[a] + (stepDir[a] > 0 ? 1 : 0));
-            tExit[a] = (plane - o[a]) * invD[a];
+            float plane = float(s.cell[a] + (s.stepDir[a] > 0 ? 1 : 0));
+            tExit[a] = (plane - o[a]) * s.invD[a];
         }
     }
     return tExit;
 }
 
+RC_FN float rcDdaCellExit(vec3 tExit, RcDda s) { return min(min(min(tExit.x, tExit.y), tExit.z), s.tEnd); }
+
+// Moves to the next cell; false when the ray has left the box. All axes whose boundaries the ray
+// reaches at tOut are stepped together, so rays through edges and corners visit exactly the cells
+// they cross, never a cell they only touch.
+RC_FN bool rcDdaStep(RC_INOUT(RcDda) s, vec3 tExit, float tOut) {
+    if (tOut >= s.tEnd) return false;
+    for (int a = 0; a < 3; ++a)
+        if (tExit[a] <= tOut) s.cell[a] += s.stepDir[a];
+    s.tIn = tOut;
+    return !(any(lessThan(s.cell, s.lowCell)) || any(greaterThan(s.cell, s.highCell)));
+}
+
 // The first hit of the ray o + t*d (t >= 0) with {f = iso} inside the box [bmin, bmax].
-// Cells are visited in ray order by a 3D-DDA; all axes whose boundaries coincide are stepped
-// together, so rays through edges and corners visit exactly the cells they cross.
 RC_FN RcHit rcFirstHit(vec3 o, vec3 d, vec3 bmin, vec3 bmax, ivec3 dims, float iso) {
     RcHit hit;
     hit.t = -1.0;
     hit.cell = ivec3(0);
     hit.pos = vec3(0.0);
-    float t0 = 0.0;
-    float t1 = RC_INFINITY;
-    if (!rcClipBox(o, d, bmin, bmax, t0, t1)) return hit;
-
-    ivec3 cellMax = max(dims - ivec3(2), ivec3(0));
-    ivec3 lowCell = clamp(ivec3(floor(bmin)), ivec3(0), cellMax);
-    ivec3 highCell = clamp(ivec3(ceil(bmax)) - ivec3(1), ivec3(0), cellMax);
-    ivec3 cell = clamp(ivec3(floor(o + t0 * d)), lowCell, highCell);
-    ivec3 stepDir = ivec3(d.x > 0.0 ? 1 : (d.x < 0.0 ? -1 : 0), d.y > 0.0 ? 1 : (d.y < 0.0 ? -1 : 0),
-                          d.z > 0.0 ? 1 : (d.z < 0.0 ? -1 : 0));
-    vec3 invD = vec3(d.x != 0.0 ? 1.0f / d.x : 0.0, d.y != 0.0 ? 1.0f / d.y : 0.0,
-                     d.z != 0.0 ? 1.0f / d.z : 0.0);
-    float tIn = t0;
+    RcDda s;
+    if (!rcDdaBegin(o, d, bmin, bmax, dims, s)) return hit;
     int maxSteps = dims.x + dims.y + dims.z + 3;
     for (int n = 0; n < maxSteps; ++n) {
-        vec3 tExit = rcCellExit(o, invD, cell, stepDir);
-        float tOut = min(min(min(tExit.x, tExit.y), tExit.z), t1);
+        vec3 tExit = rcDdaAxisExits(o, s);
+        float tOut = rcDdaCellExit(tExit, s);
         float c[8];
-        rcFetchCorners(cell, c);
+        rcFetchCorners(s.cell, c);
         float lo = min(min(min(c[0], c[1]), min(c[2], c[3])), min(min(c[4], c[5]), min(c[6], c[7])));
         float hi = max(max(max(c[0], c[1]), max(c[2], c[3])), max(max(c[4], c[5]), max(c[6], c[7])));
         // The interpolant stays within its corners' range, so most cells are rejected here.
-        // A non-finite corner fails both comparisons and the cell holds no surface.
-        if (lo <= iso && iso <= hi && tOut >= tIn) {
-            vec3 a = o + tIn * d - vec3(cell);
+        bool candidate = lo <= iso && iso <= hi && tOut >= s.tIn;
+#if ISO_VOLUME_KIND == 0
+        // Float scans may hold NaN or Inf: such a cell holds no surface (min/max may drop a NaN,
+        // so every corner is checked), and its neighbours never see the non-finite value.
+        for (int i = 0; i < 8; ++i) candidate = candidate && !isnan(c[i]) && !isinf(c[i]);
+#endif
+        if (candidate) {
+            vec3 a = o + s.tIn * d - vec3(s.cell);
             vec4 cubic = rcCellCubic(c, a, d, iso);
-            float s;
-            if (rcFirstRoot(cubic, tOut - tIn, s)) {
-                hit.t = tIn + s;
-                hit.cell = cell;
+            float root;
+            if (rcFirstRoot(cubic, tOut - s.tIn, root)) {
+                hit.t = s.tIn + root;
+                hit.cell = s.cell;
                 hit.pos = o + hit.t * d;
                 return hit;
             }
         }
-        if (tOut >= t1) break;
-        for (int a = 0; a < 3; ++a)
-            if (tExit[a] <= tOut) cell[a] += stepDir[a];
-        if (any(lessThan(cell, lowCell)) || any(greaterThan(cell, highCell))) break;
-        tIn = tOut;
+        if (!rcDdaStep(s, tExit, tOut)) break;
     }
     return hit;
 }
