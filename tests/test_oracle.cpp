@@ -382,7 +382,7 @@ TEST_CASE("oracle: crop cuts off the front shell") {
     CHECK_FALSE(oracle::trace(s.vol, r, opt).hit);
 }
 
-TEST_CASE("oracle: cell ids are i + nx*(j + ny*k); a root on a face goes to the cell the ray leaves") {
+TEST_CASE("oracle: cell ids follow i + nx (j + ny k) and a face root belongs to the cell the ray leaves") {
     const Volume v = analytic::linearRamp({24, 16, 12}, {1, 0, 0});
     auto h = traceIso(v, {{-5, 7.3, 4.6}, {1, 0, 0}}, 10.25);
     REQUIRE(h.hit);
