@@ -236,3 +236,54 @@ TEST_CASE("raycore: a NaN corner hides only its own cells") {
     REQUIRE(h.t >= 0.0f);
     CHECK(h.t == doctest::Approx(3.5));
 }
+
+TEST_CASE("raycore: successive roots in one cell are each found once") {
+    vec4 c = fromRoots(0.15, 0.5, 0.85, -4.0);
+    float s = -1.0f, prev = -1.0f;
+    std::vector<float> roots;
+    while (rcNextRoot(c, 1.0f, prev, s)) {
+        roots.push_back(s);
+        prev = s;
+        REQUIRE(roots.size() < 5);
+    }
+    REQUIRE(roots.size() == 3);
+    CHECK(roots[0] == doctest::Approx(0.15).epsilon(1e-5));
+    CHECK(roots[1] == doctest::Approx(0.5).epsilon(1e-5));
+    CHECK(roots[2] == doctest::Approx(0.85).epsilon(1e-5));
+    // A tangent touch is one crossing, not two.
+    roots.clear();
+    prev = -1.0f;
+    while (rcNextRoot(vec4(0.25f, -1.0f, 1.0f, 0.0f), 1.0f, prev, s)) {
+        roots.push_back(s);
+        prev = s;
+        REQUIRE(roots.size() < 5);
+    }
+    CHECK(roots.size() == 1);
+}
+
+TEST_CASE("raycore: skipping crossings counts every crossing once, also on cell faces") {
+    ivec3 dims(10, 3, 3);
+    SUBCASE("crossings inside cells") {
+        gTestFetch = [](glm::ivec3 p) { return float(p.x % 2); }; // crosses 0.5 in every cell
+        for (int skip = 0; skip < 9; ++skip) {
+            RcHit h = rcTraceIso(vec3(-1.0f, 1.0f, 1.0f), vec3(1, 0, 0), vec3(0.0f), vec3(dims - 1), dims, 0.5f, skip);
+            REQUIRE(h.t >= 0.0f);
+            CHECK(h.t == doctest::Approx(1.5 + skip).epsilon(1e-6));
+            CHECK(h.cell.x == skip);
+        }
+        CHECK(rcTraceIso(vec3(-1.0f, 1.0f, 1.0f), vec3(1, 0, 0), vec3(0.0f), vec3(dims - 1), dims, 0.5f, 9).t < 0.0f);
+    }
+    SUBCASE("crossings exactly on shared faces") {
+        // Samples 0,1,2,1,0,1,2,... with iso 1: every crossing sits on a sample, i.e. on a face.
+        gTestFetch = [](glm::ivec3 p) { return float(std::abs((p.x + 2) % 4 - 2)); };
+        std::vector<float> ts;
+        for (int skip = 0; skip < 12; ++skip) {
+            RcHit h = rcTraceIso(vec3(-1.0f, 1.0f, 1.0f), vec3(1, 0, 0), vec3(0.0f), vec3(dims - 1), dims, 1.0f, skip);
+            if (h.t < 0.0f) break;
+            ts.push_back(h.t - 1.0f); // as a sample index
+        }
+        // f - 1 is zero at i = 1, 3, 5, 7, 9 (and has the sign pattern -,0,+,0,-,...).
+        REQUIRE(ts.size() == 5);
+        for (size_t k = 0; k < ts.size(); ++k) CHECK(ts[k] == doctest::Approx(1.0 + 2.0 * double(k)));
+    }
+}

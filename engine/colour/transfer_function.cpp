@@ -176,7 +176,7 @@ LocalTransferFunction defaultTransferFunction() {
 
 std::vector<glm::vec4> tabulate(const LocalTransferFunction& tf, int entries) {
     if (entries < 2) throw std::invalid_argument("tabulate: entries must be at least 2");
-    std::vector<glm::vec4> out(std::size_t(entries));
+    std::vector<glm::vec4> out(static_cast<std::size_t>(entries));
     for (int k = 0; k < entries; ++k) {
         const double x = double(k) / double(entries - 1);
         out[std::size_t(k)] = glm::vec4(glm::vec3(tf.rgbAt(x)), float(tf.alphaAt(x)));

@@ -90,9 +90,12 @@ RC_FN bool rcRootInPiece(vec4 c, float lo, float hi, float glo, float ghi, RC_IN
     return true;
 }
 
-// First root of the cubic on [0, len] by Marmitt et al.: the roots of g' split [0, len] into
-// monotone pieces, which are tested in order and the first with a sign change is refined.
-RC_FN bool rcFirstRoot(vec4 c, float len, RC_INOUT(float) s) {
+// The first root of the cubic on [0, len] after sAfter, by Marmitt et al.: the roots of g' split
+// [0, len] into monotone pieces, which are tested in order, and the first with a sign change is
+// refined. Each piece holds at most one root, and a root is found by the same steps however the
+// search started, so successive calls with sAfter = the last root count every crossing once
+// (the surface peeling of paper §5.2); sAfter < 0 asks for the first root.
+RC_FN bool rcNextRoot(vec4 c, float len, float sAfter, RC_INOUT(float) s) {
     float split0 = len;
     float split1 = len;
     float qa = 3.0f * c.w;
@@ -118,19 +121,29 @@ RC_FN bool rcFirstRoot(vec4 c, float len, RC_INOUT(float) s) {
         split0 = split1;
         split1 = tmp;
     }
-    float g0 = c.x;
-    float g1 = rcCubicAt(c, split0);
-    if (rcRootInPiece(c, 0.0, split0, g0, g1, s)) return true;
-    float g2 = rcCubicAt(c, split1);
-    if (rcRootInPiece(c, split0, split1, g1, g2, s)) return true;
-    float g3 = rcCubicAt(c, len);
-    if (rcRootInPiece(c, split1, len, g2, g3, s)) return true;
-    if (g3 == 0.0) {
+    // Roots closer than this to the previous one are that root seen again (from a neighbouring
+    // cell when it lies on a shared face).
+    float after = sAfter + 1.0e-5f * len;
+    float bounds[4];
+    bounds[0] = 0.0;
+    bounds[1] = split0;
+    bounds[2] = split1;
+    bounds[3] = len;
+    float glo = c.x;
+    for (int k = 0; k < 3; ++k) {
+        float ghi = rcCubicAt(c, bounds[k + 1]);
+        if (bounds[k + 1] > after && rcRootInPiece(c, bounds[k], bounds[k + 1], glo, ghi, s) && s > after)
+            return true;
+        glo = ghi;
+    }
+    if (glo == 0.0 && len > after) {
         s = len;
         return true;
     }
     return false;
 }
+
+RC_FN bool rcFirstRoot(vec4 c, float len, RC_INOUT(float) s) { return rcNextRoot(c, len, -1.0f, s); }
 
 RC_FN void rcFetchCorners(ivec3 cell, RC_OUT_ARRAY(float) c[8]) {
     for (int k = 0; k < 2; ++k)
@@ -224,14 +237,16 @@ RC_FN bool rcDdaStep(RC_INOUT(RcDda) s, vec3 tExit, float tOut) {
     return !(any(lessThan(s.cell, s.lowCell)) || any(greaterThan(s.cell, s.highCell)));
 }
 
-// The first hit of the ray o + t*d (t >= 0) with {f = iso} inside the box [bmin, bmax].
-RC_FN RcHit rcFirstHit(vec3 o, vec3 d, vec3 bmin, vec3 bmax, ivec3 dims, float iso) {
+// The hit of the ray o + t*d (t >= 0) with {f = iso} inside the box [bmin, bmax] after `skip`
+// earlier crossings (0: the first hit; peeling windows raise it).
+RC_FN RcHit rcTraceIso(vec3 o, vec3 d, vec3 bmin, vec3 bmax, ivec3 dims, float iso, int skip) {
     RcHit hit;
     hit.t = -1.0;
     hit.cell = ivec3(0);
     hit.pos = vec3(0.0);
     RcDda s;
     if (!rcDdaBegin(o, d, bmin, bmax, dims, s)) return hit;
+    float tLast = -RC_INFINITY; // the last crossing passed over
     int maxSteps = dims.x + dims.y + dims.z + 3;
     for (int n = 0; n < maxSteps; ++n) {
         vec3 tExit = rcDdaAxisExits(o, s);
@@ -250,17 +265,28 @@ RC_FN RcHit rcFirstHit(vec3 o, vec3 d, vec3 bmin, vec3 bmax, ivec3 dims, float i
         if (candidate) {
             vec3 a = o + s.tIn * d - vec3(s.cell);
             vec4 cubic = rcCellCubic(c, a, d, iso);
+            float len = tOut - s.tIn;
             float root;
-            if (rcFirstRoot(cubic, tOut - s.tIn, root)) {
-                hit.t = s.tIn + root;
-                hit.cell = s.cell;
-                hit.pos = o + hit.t * d;
-                return hit;
+            float sAfter = max(tLast - s.tIn, -1.0f);
+            while (rcNextRoot(cubic, len, sAfter, root)) {
+                if (skip == 0) {
+                    hit.t = s.tIn + root;
+                    hit.cell = s.cell;
+                    hit.pos = o + hit.t * d;
+                    return hit;
+                }
+                --skip;
+                tLast = s.tIn + root;
+                sAfter = root;
             }
         }
         if (!rcDdaStep(s, tExit, tOut)) break;
     }
     return hit;
+}
+
+RC_FN RcHit rcFirstHit(vec3 o, vec3 d, vec3 bmin, vec3 bmax, ivec3 dims, float iso) {
+    return rcTraceIso(o, d, bmin, bmax, dims, iso, 0);
 }
 
 #ifndef ISO_GLSL
