@@ -21,7 +21,9 @@ struct Run {
 };
 
 Run runApp(const std::string& args) {
-    fs::path errFile = fs::temp_directory_path() / "isoscope-cli-test-stderr.txt";
+    static int calls = 0;
+    fs::path errFile = fs::temp_directory_path() /
+                       ("isoscope-cli-stderr-" + std::to_string(::getpid()) + "-" + std::to_string(calls++) + ".txt");
     std::string cmd = std::string("'") + ISOSCOPE_APP + "' " + args + " >/dev/null 2>'" + errFile.string() + "'";
     int raw = std::system(cmd.c_str());
     std::ifstream in(errFile);
