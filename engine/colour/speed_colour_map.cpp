@@ -27,8 +27,9 @@ glm::dvec3 blendColour(const LocalTransferFunction& tf, double speed) {
     // section more opaque. The form used here is the standard opacity correction, the one under which
     // the blend is a Riemann sum of the volume-rendering integral and CEIR converges to full volume
     // rendering of the same transfer function as n grows.
-    const bool slow = !(speed > 0.0); // <= 0 and NaN: the speed -> 0 limit
-    const double exponent = slow ? 0.0 : 1.0 / (double(n) * speed); // 0 at +infinity
+    // speed <= 0 and NaN take the speed -> 0 limit; +infinity gives exponent 0 (nothing absorbed).
+    const bool slow = !(speed > 0.0);
+    const double exponent = slow ? 0.0 : 1.0 / (double(n) * speed);
     glm::dvec3 colour(0.0);
     double transmittance = 1.0;
     for (int i = 0; i < n && transmittance > 0.0; ++i) {
@@ -64,7 +65,8 @@ double speedToMapCoord(double speed, int m) {
 }
 
 SpeedColourMap buildSpeedColourMap(const LocalTransferFunction& tf, int m) {
-    if (m < 1) throw std::invalid_argument("buildSpeedColourMap: m must be at least 1, got " + std::to_string(m));
+    if (m < 1)
+        throw std::invalid_argument("buildSpeedColourMap: m must be at least 1, got " + std::to_string(m));
     if (tf.samples < 1) throw std::invalid_argument("buildSpeedColourMap: samples must be at least 1");
     SpeedColourMap map;
     map.m = m;

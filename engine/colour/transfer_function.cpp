@@ -20,8 +20,8 @@ constexpr int kMaxSamples = 4096;
 
 // Index of the last point with x <= t (points non-empty, t within [first.x, last.x]).
 std::size_t segmentOf(const std::vector<TfPoint>& points, double t) {
-    auto it = std::upper_bound(points.begin(), points.end(), t,
-                               [](double v, const TfPoint& p) { return v < p.x; });
+    auto it =
+        std::upper_bound(points.begin(), points.end(), t, [](double v, const TfPoint& p) { return v < p.x; });
     return std::size_t(std::max<std::ptrdiff_t>(0, (it - points.begin()) - 1));
 }
 
@@ -38,7 +38,9 @@ T interpolate(const std::vector<TfPoint>& points, double x, Get get) {
     return get(a) + (get(b) - get(a)) * f;
 }
 
-bool inUnit(double v) { return std::isfinite(v) && v >= 0.0 && v <= 1.0; }
+bool inUnit(double v) {
+    return std::isfinite(v) && v >= 0.0 && v <= 1.0;
+}
 
 std::string num(double v) {
     std::string s = std::to_string(v);
@@ -62,7 +64,8 @@ std::string problemWith(const LocalTransferFunction& tf) {
         const std::string where = "points[" + std::to_string(i) + "]";
         if (!inUnit(p.x)) return where + ": x must be in [0, 1], got " + num(p.x);
         if (i > 0 && !(p.x > tf.points[i - 1].x))
-            return where + ": x must be greater than the previous point's x (" + num(tf.points[i - 1].x) + ")";
+            return where + ": x must be greater than the previous point's x (" + num(tf.points[i - 1].x) +
+                   ")";
         for (int c = 0; c < 3; ++c)
             if (!inUnit(p.rgb[c])) return where + ": rgb must be three numbers in [0, 1]";
         if (!inUnit(p.alpha)) return where + ": alpha must be in [0, 1], got " + num(p.alpha);
@@ -137,7 +140,8 @@ LocalTransferFunction loadTransferFunction(const std::filesystem::path& path) {
         const json& rgb = p.at("rgb");
         if (!rgb.is_array() || rgb.size() != 3) failTf(path, where + ": rgb must be three numbers in [0, 1]");
         for (int c = 0; c < 3; ++c) {
-            if (!rgb[std::size_t(c)].is_number()) failTf(path, where + ": rgb must be three numbers in [0, 1]");
+            if (!rgb[std::size_t(c)].is_number())
+                failTf(path, where + ": rgb must be three numbers in [0, 1]");
             tp.rgb[c] = rgb[std::size_t(c)].get<double>();
         }
         tp.alpha = numberAt(path, p.at("alpha"), where + ": alpha");

@@ -6,18 +6,24 @@
 #include "iso_surface_float.spv.h"
 #include "iso_surface_sint.spv.h"
 #include "iso_surface_uint.spv.h"
+#include "full_volume_float.spv.h"
+#include "full_volume_sint.spv.h"
+#include "full_volume_uint.spv.h"
 
 #include <glm/gtc/matrix_inverse.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
 
 namespace iso {
 
-static_assert(sizeof(rc::RenderParams) == 14 * 16, "RenderParams must match its std140 block");
+static_assert(sizeof(rc::RenderParams) == 19 * 16, "RenderParams must match its std140 block");
 static_assert(offsetof(rc::RenderParams, boxMin) == 7 * 16, "RenderParams member order must match GLSL");
 static_assert(offsetof(rc::RenderParams, background) == 13 * 16, "RenderParams member order must match GLSL");
+static_assert(offsetof(rc::RenderParams, counts) == 16 * 16, "RenderParams member order must match GLSL");
+static_assert(offsetof(rc::RenderParams, seedColours) == 17 * 16, "std140 arrays of vec4 have a 16-byte stride");
 
 namespace {
 
@@ -38,6 +44,8 @@ int volumeKind(VoxelType t) {
     default: return 2;
     }
 }
+
+constexpr uint32_t kTransferEntries = 1024; // tabulated transfer function for the FVR pass
 
 glm::vec4 v4(const glm::dvec3& v, double w = 0.0) { return glm::vec4(glm::dvec4(v, w)); }
 
@@ -76,7 +84,15 @@ rc::RenderParams makeParams(const Volume& vol, const RenderSettings& s) {
     p.image = glm::uvec4(uint32_t(s.width), uint32_t(s.height), 0, 0);
     p.material = glm::vec4(s.shading.material, s.shading.ambient);
     p.lighting = glm::vec4(s.shading.diffuse, s.shading.specular, s.shading.shininess, 0.0f);
-    p.background = glm::vec4(s.shading.background, 0.0f);
+    p.background = glm::vec4(s.shading.background, s.shade ? 1.0f : 0.0f);
+    const double minSpacing = std::min({vol.spacing.x, vol.spacing.y, vol.spacing.z});
+    const double density = s.densityFactor.value_or(defaultDensityFactor(s.tf.deltaV, minSpacing));
+    p.ceir = glm::vec4(float(density), float(s.tf.deltaV), float(0.25 * minSpacing),
+                       float(s.deepReach.value_or(16.0 * minSpacing)));
+    p.fvr = glm::vec4(float(s.fvrStep.value_or(0.25 * minSpacing)), float(s.tf.deltaV / density), 0.0f, 0.0f);
+    p.counts = glm::uvec4(uint32_t(s.mapIntervals), kTransferEntries, 0, 0);
+    p.seedColours[0] = glm::vec4(s.foregroundColour, 1.0f);
+    p.seedColours[1] = glm::vec4(s.backgroundColour, 1.0f);
     return p;
 }
 
@@ -88,6 +104,28 @@ std::vector<T> copyOut(const vk::Buffer& b, size_t count) {
 }
 
 } // namespace
+
+const char* modeName(RenderMode m) {
+    switch (m) {
+    case RenderMode::Mono: return "mono";
+    case RenderMode::CeirShallow: return "ceir-shallow";
+    case RenderMode::CeirDeep: return "ceir-deep";
+    case RenderMode::Fvr: return "fvr";
+    }
+    return "?";
+}
+
+std::optional<RenderMode> parseMode(const std::string& s) {
+    for (RenderMode m : {RenderMode::Mono, RenderMode::CeirShallow, RenderMode::CeirDeep, RenderMode::Fvr})
+        if (s == modeName(m)) return m;
+    return std::nullopt;
+}
+
+void addPeelWindow(std::vector<uint32_t>& peelBuffer, int width, int height, int x0, int y0, int x1, int y1) {
+    peelBuffer.resize(size_t(width) * size_t(height), 0u);
+    for (int y = std::max(y0, 0); y < std::min(y1, height); ++y)
+        for (int x = std::max(x0, 0); x < std::min(x1, width); ++x) ++peelBuffer[size_t(y) * size_t(width) + size_t(x)];
+}
 
 double Frame::gpuMs(const std::string& pass) const {
     for (const auto& t : timings)
@@ -109,19 +147,35 @@ void Renderer::setVolume(const Volume& vol) {
     hasVolume_ = true;
 }
 
-vk::ComputePipeline& Renderer::isoPipeline() {
-    auto it = isoPipelines_.find(volumeKind_);
+std::vector<VkDescriptorType> passBindings() {
+    std::vector<VkDescriptorType> bindings(9, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+    bindings[ISO_BINDING_PARAMS] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    bindings[ISO_BINDING_VOLUME] = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    return bindings;
+}
+
+vk::ComputePipeline& Renderer::isoPipeline(RenderMode mode, bool peel, bool seeds) {
+    std::array<int, 4> key{volumeKind_, int(mode), peel, seeds};
+    auto it = isoPipelines_.find(key);
     if (it != isoPipelines_.end()) return it->second;
     std::span<const uint32_t> code = volumeKind_ == 0   ? std::span<const uint32_t>(iso_surface_float_spv)
                                      : volumeKind_ == 1 ? std::span<const uint32_t>(iso_surface_sint_spv)
                                                         : std::span<const uint32_t>(iso_surface_uint_spv);
-    std::vector<VkDescriptorType> bindings(5);
-    bindings[ISO_BINDING_PARAMS] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    bindings[ISO_BINDING_VOLUME] = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-    bindings[ISO_BINDING_COLOUR] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    bindings[ISO_BINDING_DEPTH] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    bindings[ISO_BINDING_VOXEL_ID] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    return isoPipelines_.emplace(volumeKind_, vk::ComputePipeline(ctx_, code, bindings)).first->second;
+    int shaderMode = mode == RenderMode::CeirShallow ? ISO_MODE_CEIR_SHALLOW
+                     : mode == RenderMode::CeirDeep  ? ISO_MODE_CEIR_DEEP
+                                                     : ISO_MODE_MONO;
+    std::vector<vk::SpecConstant> constants{
+        {ISO_SPEC_MODE, uint32_t(shaderMode)}, {ISO_SPEC_PEEL, peel ? 1u : 0u}, {ISO_SPEC_SEEDS, seeds ? 1u : 0u}};
+    return isoPipelines_.emplace(key, vk::ComputePipeline(ctx_, code, passBindings(), constants)).first->second;
+}
+
+vk::ComputePipeline& Renderer::fvrPipeline() {
+    auto it = fvrPipelines_.find(volumeKind_);
+    if (it != fvrPipelines_.end()) return it->second;
+    std::span<const uint32_t> code = volumeKind_ == 0   ? std::span<const uint32_t>(full_volume_float_spv)
+                                     : volumeKind_ == 1 ? std::span<const uint32_t>(full_volume_sint_spv)
+                                                        : std::span<const uint32_t>(full_volume_uint_spv);
+    return fvrPipelines_.emplace(volumeKind_, vk::ComputePipeline(ctx_, code, passBindings())).first->second;
 }
 
 vk::Buffer& Renderer::readback(const std::string& name, VkDeviceSize size) {
@@ -133,34 +187,81 @@ vk::Buffer& Renderer::readback(const std::string& name, VkDeviceSize size) {
 Frame Renderer::render(const RenderSettings& s, const FrameOutputs& outputs) {
     if (!hasVolume_) throw std::logic_error("Renderer::render before setVolume");
     if (s.width <= 0 || s.height <= 0) throw std::invalid_argument("image size must be positive");
-    const rc::RenderParams params = makeParams(geometry_, s);
+    const VkDeviceSize pixels = VkDeviceSize(s.width) * VkDeviceSize(s.height);
+    if (!s.peelBuffer.empty() && s.peelBuffer.size() != pixels)
+        throw std::invalid_argument("the peel buffer must hold one count per pixel");
+    rc::RenderParams params = makeParams(geometry_, s);
+
+    // Only what this scene uses is built and bound; unused bindings see one tiny buffer.
+    const bool ceir = s.mode == RenderMode::CeirShallow || s.mode == RenderMode::CeirDeep;
+    const bool fvr = s.mode == RenderMode::Fvr;
+    const bool peel = !s.peelBuffer.empty() && !fvr;
+    const bool seeds = (!s.foregroundSeeds.empty() || !s.backgroundSeeds.empty()) && !fvr;
+    const VkBufferUsageFlags read = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+    if (!unused_) unused_ = vk::Buffer::deviceLocalCopy(ctx_, nullptr, 16, read);
+    if (ceir) {
+        const SpeedColourMap& map = mapCache_.get(s.tf, s.mapIntervals);
+        if (mapCache_.rebuiltLastCall() || !speedColourMap_)
+            speedColourMap_ = vk::Buffer::deviceLocalCopy(ctx_, map.entries.data(),
+                                                          map.entries.size() * sizeof(glm::vec4), read);
+    }
+    if (fvr && (!transferTable_ || !(tableOf_ == s.tf))) {
+        auto table = tabulate(s.tf, int(kTransferEntries));
+        transferTable_ = vk::Buffer::deviceLocalCopy(ctx_, table.data(), table.size() * sizeof(glm::vec4), read);
+        tableOf_ = s.tf;
+    }
+    if (peel) peelBuffer_ = vk::Buffer::deviceLocalCopy(ctx_, s.peelBuffer.data(), pixels * 4, read);
+    if (seeds) {
+        std::vector<uint32_t> fg = s.foregroundSeeds, bg = s.backgroundSeeds;
+        std::sort(fg.begin(), fg.end());
+        std::sort(bg.begin(), bg.end());
+        fg.erase(std::unique(fg.begin(), fg.end()), fg.end());
+        bg.erase(std::unique(bg.begin(), bg.end()), bg.end());
+        params.counts.z = uint32_t(fg.size());
+        params.counts.w = uint32_t(bg.size());
+        fg.insert(fg.end(), bg.begin(), bg.end());
+        seeds_ = vk::Buffer::deviceLocalCopy(ctx_, fg.data(), fg.size() * 4, read);
+    }
     std::memcpy(params_.mapped(), &params, sizeof params);
 
-    const VkDeviceSize pixels = VkDeviceSize(s.width) * VkDeviceSize(s.height);
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
     graph::RenderGraph g;
     auto paramsId = g.importBuffer("params", params_.handle(), params_.size());
     auto colour = g.createBuffer("colour", pixels * 16, storage);
     auto depth = g.createBuffer("depth", pixels * 4, storage);
     auto voxelIds = g.createBuffer("voxelIdBuffer", pixels * 4, storage);
-    vk::ComputePipeline& pipeline = isoPipeline();
+    std::optional<graph::ResourceId> mapId, tableId, peelId, seedsId;
+    if (ceir) mapId = g.importBuffer("speedColourMap", speedColourMap_.handle(), speedColourMap_.size());
+    if (fvr) tableId = g.importBuffer("transferTable", transferTable_.handle(), transferTable_.size());
+    if (peel) peelId = g.importBuffer("peelBuffer", peelBuffer_.handle(), peelBuffer_.size());
+    if (seeds) seedsId = g.importBuffer("seedLists", seeds_.handle(), seeds_.size());
+
+    vk::ComputePipeline& pipeline = fvr ? fvrPipeline() : isoPipeline(s.mode, peel, seeds);
     VkImageView view = volumeImage_.view();
     VkSampler sampler = volumeImage_.sampler();
+    VkBuffer unused = unused_.handle();
     g.addPass(
-        "isoSurface",
+        fvr ? "fullVolume" : "isoSurface",
         [&](graph::RenderGraph::PassBuilder& b) {
             b.read(paramsId, graph::Access::UniformRead);
+            for (auto id : {mapId, tableId, peelId, seedsId})
+                if (id) b.read(*id);
             b.write(colour);
             b.write(depth);
             b.write(voxelIds);
         },
-        [&pipeline, paramsId, colour, depth, voxelIds, view, sampler, s](VkCommandBuffer cmd,
-                                                                          const graph::RenderGraph::Resources& r) {
+        [&pipeline, paramsId, colour, depth, voxelIds, mapId, tableId, peelId, seedsId, view, sampler, unused,
+         s](VkCommandBuffer cmd, const graph::RenderGraph::Resources& r) {
+            auto orUnused = [&](std::optional<graph::ResourceId> id) { return id ? r.buffer(*id) : unused; };
             pipeline.bindBuffer(ISO_BINDING_PARAMS, r.buffer(paramsId));
             pipeline.bindImage(ISO_BINDING_VOLUME, view, sampler);
             pipeline.bindBuffer(ISO_BINDING_COLOUR, r.buffer(colour));
             pipeline.bindBuffer(ISO_BINDING_DEPTH, r.buffer(depth));
             pipeline.bindBuffer(ISO_BINDING_VOXEL_ID, r.buffer(voxelIds));
+            pipeline.bindBuffer(ISO_BINDING_SPEED_COLOUR_MAP, orUnused(mapId));
+            pipeline.bindBuffer(ISO_BINDING_TRANSFER_TABLE, orUnused(tableId));
+            pipeline.bindBuffer(ISO_BINDING_PEEL_BUFFER, orUnused(peelId));
+            pipeline.bindBuffer(ISO_BINDING_SEEDS, orUnused(seedsId));
             pipeline.dispatch(cmd, (uint32_t(s.width) + ISO_WORKGROUP_X - 1) / ISO_WORKGROUP_X,
                               (uint32_t(s.height) + ISO_WORKGROUP_Y - 1) / ISO_WORKGROUP_Y, 1);
         });

@@ -2,6 +2,7 @@
 
 #include "vk/check.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 #include <utility>
@@ -45,6 +46,30 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage, 
         reset();
         throw;
     }
+}
+
+Buffer Buffer::deviceLocalCopy(const Context& ctx, const void* data, VkDeviceSize bytes, VkBufferUsageFlags usage) {
+    const VkDeviceSize given = bytes;
+    bytes = std::max<VkDeviceSize>(bytes, 16); // empty lists still bind a valid buffer
+    Buffer staging(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload);
+    std::memset(staging.mapped(), 0, size_t(bytes));
+    if (data && given) std::memcpy(staging.mapped(), data, size_t(given));
+    Buffer out(ctx, bytes, usage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Device);
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+        VkBufferCopy region{0, 0, bytes};
+        vkCmdCopyBuffer(cmd, staging.handle(), out.handle(), 1, &region);
+        // The fence wait orders the copy before later submissions; this barrier also makes the
+        // written data visible to the shaders that read it.
+        VkBufferMemoryBarrier b{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER};
+        b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+        b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        b.buffer = out.handle();
+        b.size = VK_WHOLE_SIZE;
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, nullptr, 1,
+                             &b, 0, nullptr);
+    });
+    return out;
 }
 
 Buffer& Buffer::operator=(Buffer&& o) noexcept {

@@ -15,6 +15,10 @@ enum class MemoryUse { Device, Upload, Readback };
 
 class Buffer {
   public:
+    // A device-local buffer holding `bytes` from the host, copied through a staging buffer:
+    // for data the GPU reads every frame but the host changes rarely (colour maps, seed lists).
+    static Buffer deviceLocalCopy(const Context& ctx, const void* data, VkDeviceSize bytes, VkBufferUsageFlags usage);
+
     Buffer() = default;
     Buffer(const Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage, MemoryUse use);
     ~Buffer() { reset(); }

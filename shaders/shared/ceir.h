@@ -7,6 +7,7 @@
 //                                   colour for speed_j = -ln(1 - j/m) (engine/colour/speed_colour_map.hpp).
 //   vec4 rcTransferEntry(int k)     entry k of the tabulated local transfer function: rgb in xyz, the
 //                                   opacity for the standard sample distance s0 in w, at x = k/(entries-1).
+// (CUDA includers make both __host__ __device__, as cuda_ref does for rcFetch.)
 // speed = v' / densityFactor, v' being the value's derivative along the unit ray at the hit.
 #ifndef ISO_CEIR_H
 #define ISO_CEIR_H

@@ -15,6 +15,21 @@
 #define ISO_BINDING_COLOUR 2
 #define ISO_BINDING_DEPTH 3
 #define ISO_BINDING_VOXEL_ID 4
+#define ISO_BINDING_SPEED_COLOUR_MAP 5 // vec4[m + 1], CEIR modes
+#define ISO_BINDING_TRANSFER_TABLE 6   // vec4[entries], full volume rendering
+#define ISO_BINDING_PEEL_BUFFER 7      // uint per pixel, when peeling windows exist
+#define ISO_BINDING_SEEDS 8            // sorted foreground ids, then sorted background ids
+
+// Rendering modes (the isoSurface pass's first specialization constant).
+#define ISO_MODE_MONO 0
+#define ISO_MODE_CEIR_SHALLOW 1
+#define ISO_MODE_CEIR_DEEP 2
+#define ISO_MODE_FVR 3
+
+// Specialization constant ids: an unused feature is compiled out of the pass.
+#define ISO_SPEC_MODE 0
+#define ISO_SPEC_PEEL 1
+#define ISO_SPEC_SEEDS 2
 
 #define ISO_NO_HIT_ID 0xFFFFFFFFu
 
@@ -39,7 +54,11 @@ struct RenderParams {
     uvec4 image;     // xy: image size in pixels
     vec4 material;   // rgb: surface colour; a: ambient
     vec4 lighting;   // x: diffuse, y: specular, z: shininess
-    vec4 background; // rgb: background colour
+    vec4 background; // rgb: background colour; w: 1 to shade, 0 for the material colour alone
+    vec4 ceir;       // x: densityFactor, y: deltaV, z: deep-search step (world), w: deep-search reach (world)
+    vec4 fvr;        // x: sampling step (world), y: standard sample distance s0 = deltaV / densityFactor
+    uvec4 counts;    // x: speed-colour map intervals m, y: transfer table entries, z, w: fore/background seeds
+    vec4 seedColours[2]; // rgb of hits in foreground and background seed cells
 };
 
 #ifndef ISO_GLSL
