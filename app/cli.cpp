@@ -1,6 +1,9 @@
 #include "cli.hpp"
 
 #include <algorithm>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <tuple>
 #include <charconv>
 #include <cmath>
 #include <random>
@@ -127,6 +130,70 @@ Volume loadScan(const Args& args) {
         raw = layout;
     }
     return loadVolume(args.positional()[0], raw);
+}
+
+RenderSettings sceneSettings(const Args& args, RenderMode defaultMode) {
+    RenderSettings s;
+    s.iso = parseNumber("iso", args.require("iso", "the isovalue in the scan's units, e.g. --iso 500"));
+    std::tie(s.width, s.height) = parseSize("size", args.get("size").value_or("512x512"));
+    if (auto m = args.get("mode")) {
+        auto mode = parseMode(*m);
+        if (!mode) throw UsageError("--mode: '" + *m + "' is not one of mono, ceir-shallow, ceir-deep, fvr");
+        s.mode = *mode;
+    } else {
+        s.mode = defaultMode;
+    }
+    if (auto tf = args.get("tf")) s.tf = loadTransferFunction(*tf);
+    auto positive = [&](const char* name) -> std::optional<double> {
+        auto v = args.get(name);
+        if (!v) return std::nullopt;
+        double x = parseNumber(name, *v);
+        if (x <= 0) throw UsageError(std::string("--") + name + ": must be positive");
+        return x;
+    };
+    s.densityFactor = positive("density-factor");
+    s.deepReach = positive("deep-reach");
+    s.fvrStep = positive("step");
+    if (auto m = positive("map-size")) {
+        if (*m != std::floor(*m) || *m > 65536) throw UsageError("--map-size: a whole number from 1 to 65536");
+        s.mapIntervals = int(*m);
+    }
+    std::string shading = args.get("shading").value_or("phong");
+    if (shading != "phong" && shading != "none") throw UsageError("--shading: 'phong' or 'none'");
+    s.shade = shading == "phong";
+    if (auto c = args.get("crop")) {
+        auto v = parseList("crop", *c, 6);
+        s.crop = std::array<double, 6>{v[0], v[1], v[2], v[3], v[4], v[5]};
+        for (int a = 0; a < 3; ++a)
+            if (v[a] > v[a + 3]) throw UsageError("--crop: each lower bound must not exceed its upper bound");
+    }
+    for (const auto& w : args.all("peel")) {
+        auto v = parseList("peel", w, 4);
+        for (double x : v)
+            if (x != std::floor(x)) throw UsageError("--peel: pixel coordinates are whole numbers: '" + w + "'");
+        if (v[0] >= v[2] || v[1] >= v[3]) throw UsageError("--peel: need x0 < x1 and y0 < y1: '" + w + "'");
+        addPeelWindow(s.peelBuffer, s.width, s.height, int(v[0]), int(v[1]), int(v[2]), int(v[3]));
+    }
+    if (auto path = args.get("seeds")) {
+        std::ifstream in(*path);
+        if (!in) throw InputError(*path + ": cannot open the seed file");
+        nlohmann::json j;
+        try {
+            j = nlohmann::json::parse(in);
+            for (const char* key : {"foreground", "background"}) {
+                auto& list = key[0] == 'f' ? s.foregroundSeeds : s.backgroundSeeds;
+                if (!j.contains(key)) continue;
+                for (const auto& id : j.at(key)) {
+                    if (!id.is_number_unsigned() || id.get<uint64_t>() > 0xFFFFFFFEull)
+                        throw InputError(*path + ": \"" + key + "\" must list voxel ids (whole numbers)");
+                    list.push_back(id.get<uint32_t>());
+                }
+            }
+        } catch (const nlohmann::json::exception& e) {
+            throw InputError(*path + ": not a seed file ({\"foreground\":[ids],\"background\":[ids]}): " + e.what());
+        }
+    }
+    return s;
 }
 
 Camera cameraFor(const Args& args, const Volume& vol, int width, int height) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "io/volume.hpp"
+#include "render/renderer.hpp"
 #include "scene/camera.hpp"
 
 #include <filesystem>
@@ -57,6 +58,11 @@ class Outputs {
   private:
     std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged_;
 };
+
+// The scene options shared by render, pick and compare: --iso, --size, --mode, --tf,
+// --density-factor, --shading, --deep-reach, --step, --map-size, --crop, --peel, --seeds.
+// Everything is checked before the scan is loaded, so mistakes are reported at once.
+RenderSettings sceneSettings(const Args& args, RenderMode defaultMode);
 
 extern const char* kScanOptionsHelp;
 

@@ -26,7 +26,21 @@ Options:
   --camera CAM.json     {"eye":[x,y,z],"target":[x,y,z],"up":[x,y,z],"fovy_deg":30}, or with
                         "projection":"orthographic","height":h; world units = the scan's
                         physical coordinates. Default: the whole volume from the front.
+  --mode M              mono | ceir-shallow | ceir-deep | fvr (default ceir-shallow):
+                        colour-enhanced modes colour each hit from the value's derivative along
+                        the ray through the speed-colour map of a local transfer function; fvr is
+                        full volume rendering with the same transfer function, for comparison
+  --tf TF.json          local transfer function over [iso, iso + delta_v] (default: one for CT)
+  --density-factor DF   delta_v / standard sample distance (default delta_v / smallest spacing)
+  --shading phong|none  none outputs the material colour alone (default phong)
+  --deep-reach D        ceir-deep: how far behind the hit to search, world units (default 16 voxels)
+  --step S              fvr: sampling step in world units (default a quarter of the smallest spacing)
+  --map-size M          intervals of the speed-colour map (default 256)
+  --out-rgba FILE.nrrd  float32 4 x W x H linear RGBA before display encoding
   --crop i0,j0,k0,i1,j1,k1   render only this box (sample-index units, fractions allowed)
+  --peel x0,y0,x1,y1    peeling window (repeatable): pixels in [x0,x1) x [y0,y1) show the next
+                        layer of the surface; overlapping windows peel deeper
+  --seeds SEEDS.json    {"foreground":[ids], "background":[ids]}: colour hits in those cells
   --out-depth FILE.nrrd float32 W x H: distance from the ray origin to the hit, -1 = no hit
   --out-ids FILE.nrrd   uint32 W x H: id i + nx*(j + ny*k) of the hit cell, 4294967295 = none
   --device NAME         Vulkan device (index or part of its name; see 'isoscope devices')
@@ -45,25 +59,13 @@ int renderVerb(int argc, char** argv) {
         return 0;
     }
     args.allowOnly({"iso", "out", "size", "camera", "crop", "out-depth", "out-ids", "device", "validate", "help",
-                    "raw-dims", "raw-type", "raw-spacing", "raw-big-endian"});
+                    "raw-dims", "raw-type", "raw-spacing", "raw-big-endian", "mode", "tf", "density-factor",
+                    "shading", "deep-reach", "step", "map-size", "out-rgba", "peel", "seeds"});
     // Check every option before the (possibly slow) load, so mistakes are reported at once.
-    double isoValue = cli::parseNumber("iso", args.require("iso", "the isovalue in the scan's units, e.g. --iso 500"));
-    auto [width, height] = cli::parseSize("size", args.get("size").value_or("512x512"));
-    std::optional<std::array<double, 6>> crop;
-    if (auto c = args.get("crop")) {
-        auto v = cli::parseList("crop", *c, 6);
-        crop = std::array<double, 6>{v[0], v[1], v[2], v[3], v[4], v[5]};
-        for (int a = 0; a < 3; ++a)
-            if (v[a] > v[a + 3]) throw cli::UsageError("--crop: each lower bound must not exceed its upper bound");
-    }
+    RenderSettings settings = cli::sceneSettings(args, RenderMode::CeirShallow);
+    const int width = settings.width, height = settings.height;
     std::string outPng = args.get("out").value_or("render.png");
-
     Volume vol = cli::loadScan(args);
-    RenderSettings settings;
-    settings.width = width;
-    settings.height = height;
-    settings.iso = isoValue;
-    settings.crop = crop;
     settings.camera = cli::cameraFor(args, vol, width, height);
 
     vk::ContextOptions options;
@@ -75,12 +77,14 @@ int renderVerb(int argc, char** argv) {
     FrameOutputs wanted;
     wanted.depth = args.get("out-depth").has_value();
     wanted.voxelIds = args.get("out-ids").has_value();
+    wanted.colour = true;
     Frame frame = renderer.render(settings, wanted);
 
     cli::Outputs outputs;
     writePng(outputs.stage(outPng), width, height, encodeSrgb8(frame.rgba));
     if (auto p = args.get("out-depth")) writeNrrd2D(outputs.stage(*p), width, height, frame.depth);
     if (auto p = args.get("out-ids")) writeNrrd2D(outputs.stage(*p), width, height, frame.voxelIds);
+    if (auto p = args.get("out-rgba")) writeNrrdRgba(outputs.stage(*p), width, height, frame.rgba);
     outputs.commit();
 
     size_t hits = 0;
@@ -88,7 +92,8 @@ int renderVerb(int argc, char** argv) {
     std::printf("wrote %s (%dx%d, %.1f%% of pixels on the surface)\n", outPng.c_str(), width, height,
                 100.0 * double(hits) / (double(width) * height));
     std::printf("gpu: %s (%s)\n", ctx.deviceName().c_str(), ctx.deviceType());
-    std::printf("gpu time: isoSurface %.3f ms\n", frame.gpuMs("isoSurface"));
+    for (const auto& t : frame.timings)
+        if (t.name.rfind("readback", 0) != 0) std::printf("gpu time: %s %.3f ms (%s)\n", t.name.c_str(), t.ms, modeName(settings.mode));
     if (ctx.validationMessages() > 0) {
         std::fprintf(stderr, "isoscope render: the Vulkan validation layers reported %llu problem(s)\n",
                      (unsigned long long)ctx.validationMessages());
