@@ -1,6 +1,11 @@
 // The isoscope command line on bad input: one clear line naming the file and the problem, a
 // non-zero exit, and no output file left behind.
+#include "io/volume.hpp"
+#include "oracle/oracle.hpp"
+#include "scene/camera.hpp"
+
 #include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
@@ -18,18 +23,26 @@ namespace {
 struct Run {
     int status;
     std::string err;
+    std::string out;
 };
 
 Run runApp(const std::string& args) {
     static int calls = 0;
     fs::path errFile = fs::temp_directory_path() /
                        ("isoscope-cli-stderr-" + std::to_string(::getpid()) + "-" + std::to_string(calls++) + ".txt");
-    std::string cmd = std::string("'") + ISOSCOPE_APP + "' " + args + " >/dev/null 2>'" + errFile.string() + "'";
+    fs::path outFile = errFile;
+    outFile += ".out";
+    std::string cmd = std::string("'") + ISOSCOPE_APP + "' " + args + " >'" + outFile.string() + "' 2>'" +
+                      errFile.string() + "'";
     int raw = std::system(cmd.c_str());
-    std::ifstream in(errFile);
-    std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    fs::remove(errFile);
-    return {WIFEXITED(raw) ? WEXITSTATUS(raw) : 128, err};
+    auto slurp = [](const fs::path& f) {
+        std::ifstream in(f);
+        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        fs::remove(f);
+        return text;
+    };
+    std::string err = slurp(errFile);
+    return {WIFEXITED(raw) ? WEXITSTATUS(raw) : 128, err, slurp(outFile)};
 }
 
 struct TempDir {
@@ -107,4 +120,35 @@ TEST_CASE("cli: help teaches every verb") {
     }
     CHECK(runApp("--help").status == 0);
     CHECK(runApp("frobnicate").status != 0);
+}
+
+TEST_CASE("cli: pick reports the cell the oracle's ray hits") {
+    const fs::path src = ISOSCOPE_SOURCE_DIR;
+    const std::string scan = (src / "data/headsq_quarter.nhdr").string();
+    const std::string camFile = (src / "data/headsq_quarter.camera.json").string();
+    iso::Volume vol = iso::loadVolume(scan);
+    iso::Camera cam = iso::loadCamera(camFile);
+    iso::oracle::Options opt;
+    opt.iso = 500.0;
+    for (auto [x, y] : {std::pair{32, 30}, std::pair{20, 40}, std::pair{5, 5}}) {
+        Run r = runApp("pick '" + scan + "' --iso 500 --size 64x64 --camera '" + camFile + "' --at " +
+                       std::to_string(x) + "," + std::to_string(y) + " --validate");
+        INFO("pixel " << x << "," << y << ": " << r.out << r.err);
+        REQUIRE(r.status == 0);
+        auto j = nlohmann::json::parse(r.out);
+        iso::oracle::Hit ref = iso::oracle::trace(vol, iso::primaryRay(cam, 64, 64, x, y), opt);
+        REQUIRE(j.at("hit").get<bool>() == ref.hit);
+        if (!ref.hit) continue;
+        CHECK(j.at("id").get<uint64_t>() == ref.cellId);
+        CHECK(j.at("ijk")[0].get<uint32_t>() == ref.cell[0]);
+        CHECK(j.at("ijk")[2].get<uint32_t>() == ref.cell[2]);
+        CHECK(std::abs(j.at("t").get<double>() - ref.t) < 1e-3 * vol.spacing.z);
+        CHECK(std::abs(j.at("value").get<double>() - 500.0) < 0.5);
+    }
+    Run rect = runApp("pick '" + scan + "' --iso 500 --size 64x64 --camera '" + camFile + "' --rect 28,28,36,36");
+    REQUIRE(rect.status == 0);
+    auto ids = nlohmann::json::parse(rect.out).at("ids").get<std::vector<uint64_t>>();
+    CHECK(ids.size() > 4);
+    CHECK(std::is_sorted(ids.begin(), ids.end()));
+    CHECK(std::adjacent_find(ids.begin(), ids.end()) == ids.end());
 }
