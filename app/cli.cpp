@@ -43,7 +43,9 @@ Args::Args(int argc, char** argv, int first, std::vector<std::string> flags) : f
     }
 }
 
-bool Args::flag(const std::string& name) const { return values_.count(name) > 0; }
+bool Args::flag(const std::string& name) const {
+    return values_.count(name) > 0;
+}
 
 std::optional<std::string> Args::get(const std::string& name) const {
     auto range = values_.equal_range(name);
@@ -99,8 +101,8 @@ std::vector<double> parseList(const std::string& option, const std::string& text
     std::string item;
     while (std::getline(ss, item, ',')) out.push_back(parseNumber(option, item));
     if (out.size() != count)
-        throw UsageError("--" + option + ": expected " + std::to_string(count) + " comma-separated numbers, got '" +
-                         text + "'");
+        throw UsageError("--" + option + ": expected " + std::to_string(count) +
+                         " comma-separated numbers, got '" + text + "'");
     return out;
 }
 
@@ -155,7 +157,8 @@ RenderSettings sceneSettings(const Args& args, RenderMode defaultMode) {
     s.deepReach = positive("deep-reach");
     s.fvrStep = positive("step");
     if (auto m = positive("map-size")) {
-        if (*m != std::floor(*m) || *m > 65536) throw UsageError("--map-size: a whole number from 1 to 65536");
+        if (*m != std::floor(*m) || *m > 65536)
+            throw UsageError("--map-size: a whole number from 1 to 65536");
         s.mapIntervals = int(*m);
     }
     std::string shading = args.get("shading").value_or("phong");
@@ -170,7 +173,8 @@ RenderSettings sceneSettings(const Args& args, RenderMode defaultMode) {
     for (const auto& w : args.all("peel")) {
         auto v = parseList("peel", w, 4);
         for (double x : v)
-            if (x != std::floor(x)) throw UsageError("--peel: pixel coordinates are whole numbers: '" + w + "'");
+            if (x != std::floor(x))
+                throw UsageError("--peel: pixel coordinates are whole numbers: '" + w + "'");
         if (v[0] >= v[2] || v[1] >= v[3]) throw UsageError("--peel: need x0 < x1 and y0 < y1: '" + w + "'");
         addPeelWindow(s.peelBuffer, s.width, s.height, int(v[0]), int(v[1]), int(v[2]), int(v[3]));
     }
@@ -190,7 +194,8 @@ RenderSettings sceneSettings(const Args& args, RenderMode defaultMode) {
                 }
             }
         } catch (const nlohmann::json::exception& e) {
-            throw InputError(*path + ": not a seed file ({\"foreground\":[ids],\"background\":[ids]}): " + e.what());
+            throw InputError(*path +
+                             ": not a seed file ({\"foreground\":[ids],\"background\":[ids]}): " + e.what());
         }
     }
     return s;
@@ -214,7 +219,9 @@ std::filesystem::path Outputs::stage(const std::filesystem::path& finalPath) {
     if (!dir.empty() && !std::filesystem::is_directory(dir)) {
         std::error_code ec;
         std::filesystem::create_directories(dir, ec);
-        if (ec) throw std::runtime_error(finalPath.string() + ": cannot create folder " + dir.string() + ": " + ec.message());
+        if (ec)
+            throw std::runtime_error(finalPath.string() + ": cannot create folder " + dir.string() + ": " +
+                                     ec.message());
     }
     if (std::filesystem::is_directory(finalPath))
         throw UsageError(finalPath.string() + ": is a folder; give a file name");

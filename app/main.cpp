@@ -46,7 +46,8 @@ such as lavapipe. --validate (or ISOSCOPE_VALIDATE=1) turns on the Vulkan valida
 } // namespace
 
 int main(int argc, char** argv) {
-    if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help")) {
+    if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") ||
+        !std::strcmp(argv[1], "help")) {
         std::fputs(kHelp, stdout);
         return argc < 2 ? 2 : 0;
     }

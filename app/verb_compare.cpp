@@ -37,11 +37,12 @@ int compareVerb(int argc, char** argv) {
         std::printf(kCompareHelp, cli::kScanOptionsHelp);
         return 0;
     }
-    args.allowOnly({"iso", "out", "size", "camera", "crop", "device", "validate", "help", "raw-dims", "raw-type",
-                    "raw-spacing", "raw-big-endian", "mode", "tf", "density-factor", "shading", "deep-reach", "step",
-                    "map-size"});
+    args.allowOnly({"iso", "out", "size", "camera", "crop", "device", "validate", "help", "raw-dims",
+                    "raw-type", "raw-spacing", "raw-big-endian", "mode", "tf", "density-factor", "shading",
+                    "deep-reach", "step", "map-size"});
     RenderSettings ceir = cli::sceneSettings(args, RenderMode::CeirShallow);
-    if (ceir.mode == RenderMode::Fvr) throw cli::UsageError("--mode: compare puts a CEIR or mono mode beside fvr");
+    if (ceir.mode == RenderMode::Fvr)
+        throw cli::UsageError("--mode: compare puts a CEIR or mono mode beside fvr");
     const int w = ceir.width, h = ceir.height;
     std::string outPng = args.get("out").value_or("compare.png");
     Volume vol = cli::loadScan(args);
@@ -83,12 +84,14 @@ int compareVerb(int argc, char** argv) {
     writePng(outputs.stage(outPng), 2 * w, h, encodeSrgb8(side));
     outputs.commit();
 
-    double ta = a.timings.empty() ? 0.0 : a.timings.front().ms, tb = b.timings.empty() ? 0.0 : b.timings.front().ms;
+    double ta = a.timings.empty() ? 0.0 : a.timings.front().ms,
+           tb = b.timings.empty() ? 0.0 : b.timings.front().ms;
     std::printf("wrote %s (%dx%d: %s left, fvr right)\n", outPng.c_str(), 2 * w, h, modeName(ceir.mode));
     std::printf("gpu: %s (%s)\n", ctx.deviceName().c_str(), ctx.deviceType());
     std::printf("gpu time: %s %.3f ms, fvr %.3f ms (fvr / %s = %.2fx)\n", modeName(ceir.mode), ta, tb,
                 modeName(ceir.mode), ta > 0 ? tb / ta : 0.0);
-    std::printf("difference over %zu pixels both show: rmse %.2f/255, max %.2f/255 (linear RGB)\n", both, rmse, worst);
+    std::printf("difference over %zu pixels both show: rmse %.2f/255, max %.2f/255 (linear RGB)\n", both,
+                rmse, worst);
     return ctx.validationMessages() ? 3 : 0;
 }
 

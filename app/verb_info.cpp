@@ -23,7 +23,8 @@ int infoVerb(int argc, char** argv) {
         throw cli::UsageError("--bins: a whole number from 1 to 256");
     Volume vol = cli::loadScan(args);
     std::printf("scan:       %s\n", vol.source.c_str());
-    std::printf("dims:       %u x %u x %u (%zu samples)\n", vol.dims[0], vol.dims[1], vol.dims[2], vol.sampleCount());
+    std::printf("dims:       %u x %u x %u (%zu samples)\n", vol.dims[0], vol.dims[1], vol.dims[2],
+                vol.sampleCount());
     std::printf("type:       %s (%zu bytes)\n", voxelTypeName(vol.type), vol.byteSize());
     std::printf("spacing:    %g %g %g\n", vol.spacing.x, vol.spacing.y, vol.spacing.z);
     std::printf("origin:     %g %g %g\n", vol.origin.x, vol.origin.y, vol.origin.z);

@@ -32,7 +32,8 @@ Example:
 double trilinear(const Volume& v, glm::dvec3 p) {
     glm::dvec3 hi(v.dims[0] - 1.0, v.dims[1] - 1.0, v.dims[2] - 1.0);
     p = glm::clamp(p, glm::dvec3(0.0), hi);
-    glm::uvec3 c = glm::min(glm::uvec3(glm::floor(p)), glm::uvec3(v.dims[0] - 2, v.dims[1] - 2, v.dims[2] - 2));
+    glm::uvec3 c =
+        glm::min(glm::uvec3(glm::floor(p)), glm::uvec3(v.dims[0] - 2, v.dims[1] - 2, v.dims[2] - 2));
     glm::dvec3 w = p - glm::dvec3(c);
     double out = 0.0;
     for (uint32_t k = 0; k < 2; ++k)
@@ -51,17 +52,19 @@ int pickVerb(int argc, char** argv) {
         std::printf(kPickHelp, cli::kScanOptionsHelp);
         return 0;
     }
-    args.allowOnly({"iso", "size", "camera", "crop", "peel", "at", "rect", "device", "validate", "help", "raw-dims",
-                    "raw-type", "raw-spacing", "raw-big-endian"});
+    args.allowOnly({"iso", "size", "camera", "crop", "peel", "at", "rect", "device", "validate", "help",
+                    "raw-dims", "raw-type", "raw-spacing", "raw-big-endian"});
     RenderSettings settings = cli::sceneSettings(args, RenderMode::Mono);
     const int w = settings.width, h = settings.height;
     std::vector<double> at, rect;
     if (auto a = args.get("at")) at = cli::parseList("at", *a, 2);
     if (auto r = args.get("rect")) rect = cli::parseList("rect", *r, 4);
-    if (at.empty() == rect.empty()) throw cli::UsageError("give exactly one of --at x,y or --rect x0,y0,x1,y1");
+    if (at.empty() == rect.empty())
+        throw cli::UsageError("give exactly one of --at x,y or --rect x0,y0,x1,y1");
     if (!at.empty() && (at[0] < 0 || at[1] < 0 || at[0] >= w || at[1] >= h || at[0] != std::floor(at[0]) ||
                         at[1] != std::floor(at[1])))
-        throw cli::UsageError("--at: a whole pixel inside the " + std::to_string(w) + "x" + std::to_string(h) + " image");
+        throw cli::UsageError("--at: a whole pixel inside the " + std::to_string(w) + "x" +
+                              std::to_string(h) + " image");
     if (!rect.empty() && (rect[0] >= rect[2] || rect[1] >= rect[3]))
         throw cli::UsageError("--rect: need x0 < x1 and y0 < y1");
 
@@ -102,12 +105,15 @@ int pickVerb(int argc, char** argv) {
     const double t = frame.depth[pixel];
     Ray ray = primaryRay(settings.camera, w, h, x, y);
     glm::dvec3 world = ray.origin + t * ray.dir;
-    glm::dmat3 M = vol.directions * glm::dmat3(glm::dvec3(vol.spacing.x, 0, 0), glm::dvec3(0, vol.spacing.y, 0),
-                                               glm::dvec3(0, 0, vol.spacing.z));
+    glm::dmat3 M =
+        vol.directions * glm::dmat3(glm::dvec3(vol.spacing.x, 0, 0), glm::dvec3(0, vol.spacing.y, 0),
+                                    glm::dvec3(0, 0, vol.spacing.z));
     glm::dvec3 index = glm::inverse(M) * (world - vol.origin);
     const uint32_t nx = vol.dims[0], ny = vol.dims[1];
-    std::printf("{\"hit\":true, \"id\":%u, \"ijk\":[%u,%u,%u], \"world\":[%.9g,%.9g,%.9g], \"t\":%.9g, \"value\":%.9g}\n",
-                id, id % nx, (id / nx) % ny, id / (nx * ny), world.x, world.y, world.z, t, trilinear(vol, index));
+    std::printf("{\"hit\":true, \"id\":%u, \"ijk\":[%u,%u,%u], \"world\":[%.9g,%.9g,%.9g], \"t\":%.9g, "
+                "\"value\":%.9g}\n",
+                id, id % nx, (id / nx) % ny, id / (nx * ny), world.x, world.y, world.z, t,
+                trilinear(vol, index));
     return ctx.validationMessages() ? 3 : 0;
 }
 

@@ -58,9 +58,11 @@ int renderVerb(int argc, char** argv) {
         std::printf(kRenderHelp, cli::kScanOptionsHelp);
         return 0;
     }
-    args.allowOnly({"iso", "out", "size", "camera", "crop", "out-depth", "out-ids", "device", "validate", "help",
-                    "raw-dims", "raw-type", "raw-spacing", "raw-big-endian", "mode", "tf", "density-factor",
-                    "shading", "deep-reach", "step", "map-size", "out-rgba", "peel", "seeds"});
+    args.allowOnly(
+        {"iso",      "out",      "size",           "camera",   "crop",       "out-depth",   "out-ids",
+         "device",   "validate", "help",           "raw-dims", "raw-type",   "raw-spacing", "raw-big-endian",
+         "mode",     "tf",       "density-factor", "shading",  "deep-reach", "step",        "map-size",
+         "out-rgba", "peel",     "seeds"});
     // Check every option before the (possibly slow) load, so mistakes are reported at once.
     RenderSettings settings = cli::sceneSettings(args, RenderMode::CeirShallow);
     const int width = settings.width, height = settings.height;
@@ -93,7 +95,8 @@ int renderVerb(int argc, char** argv) {
                 100.0 * double(hits) / (double(width) * height));
     std::printf("gpu: %s (%s)\n", ctx.deviceName().c_str(), ctx.deviceType());
     for (const auto& t : frame.timings)
-        if (t.name.rfind("readback", 0) != 0) std::printf("gpu time: %s %.3f ms (%s)\n", t.name.c_str(), t.ms, modeName(settings.mode));
+        if (t.name.rfind("readback", 0) != 0)
+            std::printf("gpu time: %s %.3f ms (%s)\n", t.name.c_str(), t.ms, modeName(settings.mode));
     if (ctx.validationMessages() > 0) {
         std::fprintf(stderr, "isoscope render: the Vulkan validation layers reported %llu problem(s)\n",
                      (unsigned long long)ctx.validationMessages());
@@ -105,13 +108,14 @@ int renderVerb(int argc, char** argv) {
 int devicesVerb(int argc, char** argv) {
     cli::Args args(argc, argv, 2, {"help"});
     if (args.flag("help")) {
-        std::puts("isoscope devices\n\nLists the Vulkan devices; pass an index or part of a name to --device.");
+        std::puts(
+            "isoscope devices\n\nLists the Vulkan devices; pass an index or part of a name to --device.");
         return 0;
     }
     args.allowOnly({"help"});
     for (const auto& d : vk::Context::listDevices())
-        std::printf("%u: %s (%s, Vulkan %u.%u)\n", d.index, d.name.c_str(), d.type, VK_API_VERSION_MAJOR(d.apiVersion),
-                    VK_API_VERSION_MINOR(d.apiVersion));
+        std::printf("%u: %s (%s, Vulkan %u.%u)\n", d.index, d.name.c_str(), d.type,
+                    VK_API_VERSION_MAJOR(d.apiVersion), VK_API_VERSION_MINOR(d.apiVersion));
     return 0;
 }
 

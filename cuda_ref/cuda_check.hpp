@@ -14,8 +14,8 @@ struct CudaError : std::runtime_error {
 };
 
 [[noreturn]] inline void throwCudaError(cudaError_t e, const char* call, const char* file, int line) {
-    throw CudaError(std::string("CUDA call failed with ") + cudaGetErrorName(e) + " (" + cudaGetErrorString(e) +
-                    "): " + call + " (" + file + ":" + std::to_string(line) + ")");
+    throw CudaError(std::string("CUDA call failed with ") + cudaGetErrorName(e) + " (" +
+                    cudaGetErrorString(e) + "): " + call + " (" + file + ":" + std::to_string(line) + ")");
 }
 
 } // namespace iso::cuda
@@ -23,5 +23,6 @@ struct CudaError : std::runtime_error {
 #define CUDA_CHECK(call)                                                                                     \
     do {                                                                                                     \
         cudaError_t cudaCheckResult_ = (call);                                                               \
-        if (cudaCheckResult_ != cudaSuccess) ::iso::cuda::throwCudaError(cudaCheckResult_, #call, __FILE__, __LINE__); \
+        if (cudaCheckResult_ != cudaSuccess)                                                                 \
+            ::iso::cuda::throwCudaError(cudaCheckResult_, #call, __FILE__, __LINE__);                        \
     } while (0)

@@ -55,7 +55,8 @@ __global__ void isoSurfaceKernel(rc::RenderParams params, float4* colour, float*
     vec3 c = rcShadeHeadlight(params, g, d, vec3(params.material));
     colour[pixel] = make_float4(c.x, c.y, c.z, 1.0f);
     depth[pixel] = hit.t;
-    voxelId[pixel] = uint32_t(hit.cell.x) + params.dims.x * (uint32_t(hit.cell.y) + params.dims.y * uint32_t(hit.cell.z));
+    voxelId[pixel] =
+        uint32_t(hit.cell.x) + params.dims.x * (uint32_t(hit.cell.y) + params.dims.y * uint32_t(hit.cell.z));
 }
 
 } // namespace
@@ -65,7 +66,8 @@ bool cudaDeviceAvailable() {
     return cudaGetDeviceCount(&n) == cudaSuccess && n > 0;
 }
 
-CudaVolume::CudaVolume(const void* data, uint32_t nx, uint32_t ny, uint32_t nz, TexelKind kind, int bytesPerTexel)
+CudaVolume::CudaVolume(const void* data, uint32_t nx, uint32_t ny, uint32_t nz, TexelKind kind,
+                       int bytesPerTexel)
     : kind_(kind) {
     cudaChannelFormatDesc desc = kind == TexelKind::Float       ? cudaCreateChannelDesc<float>()
                                  : kind == TexelKind::SignedInt ? cudaCreateChannelDesc<short>()

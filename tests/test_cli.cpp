@@ -28,8 +28,8 @@ struct Run {
 
 Run runApp(const std::string& args) {
     static int calls = 0;
-    fs::path errFile = fs::temp_directory_path() /
-                       ("isoscope-cli-stderr-" + std::to_string(::getpid()) + "-" + std::to_string(calls++) + ".txt");
+    fs::path errFile = fs::temp_directory_path() / ("isoscope-cli-stderr-" + std::to_string(::getpid()) +
+                                                    "-" + std::to_string(calls++) + ".txt");
     fs::path outFile = errFile;
     outFile += ".out";
     std::string cmd = std::string("'") + ISOSCOPE_APP + "' " + args + " >'" + outFile.string() + "' 2>'" +
@@ -78,11 +78,13 @@ TEST_CASE("cli: bad input gets one clear line, a non-zero exit and no output") {
     TempDir dir;
     fs::path out = dir.path / "out.png";
     SUBCASE("truncated raw data") {
-        auto f = dir.write("trunc.nrrd", kNrrdHead + "type: short\nsizes: 4 4 4\n\n" + std::string(100, '\1'));
+        auto f =
+            dir.write("trunc.nrrd", kNrrdHead + "type: short\nsizes: 4 4 4\n\n" + std::string(100, '\1'));
         checkRejected("render '" + f.string() + "' --iso 1", "trunc.nrrd", out);
     }
     SUBCASE("dims whose product overflows") {
-        auto f = dir.write("huge.nrrd", kNrrdHead + "type: uchar\nsizes: 4294967295 4294967295 4294967295\n\n");
+        auto f =
+            dir.write("huge.nrrd", kNrrdHead + "type: uchar\nsizes: 4294967295 4294967295 4294967295\n\n");
         checkRejected("render '" + f.string() + "' --iso 1", "huge.nrrd", out);
     }
     SUBCASE("an unknown voxel type") {
@@ -93,7 +95,9 @@ TEST_CASE("cli: bad input gets one clear line, a non-zero exit and no output") {
         auto f = dir.write("detached.nhdr", kNrrdHead + "type: uchar\nsizes: 2 2 2\ndata file: gone.raw\n\n");
         checkRejected("render '" + f.string() + "' --iso 1", "gone.raw", out);
     }
-    SUBCASE("a directory given as the scan") { checkRejected("render '" + dir.path.string() + "' --iso 1", dir.path.filename().string(), out); }
+    SUBCASE("a directory given as the scan") {
+        checkRejected("render '" + dir.path.string() + "' --iso 1", dir.path.filename().string(), out);
+    }
     SUBCASE("an empty file") {
         auto f = dir.write("empty.nrrd", "");
         checkRejected("render '" + f.string() + "' --iso 1", "empty.nrrd", out);
@@ -145,7 +149,8 @@ TEST_CASE("cli: pick reports the cell the oracle's ray hits") {
         CHECK(std::abs(j.at("t").get<double>() - ref.t) < 1e-3 * vol.spacing.z);
         CHECK(std::abs(j.at("value").get<double>() - 500.0) < 0.5);
     }
-    Run rect = runApp("pick '" + scan + "' --iso 500 --size 64x64 --camera '" + camFile + "' --rect 28,28,36,36");
+    Run rect =
+        runApp("pick '" + scan + "' --iso 500 --size 64x64 --camera '" + camFile + "' --rect 28,28,36,36");
     REQUIRE(rect.status == 0);
     auto ids = nlohmann::json::parse(rect.out).at("ids").get<std::vector<uint64_t>>();
     CHECK(ids.size() > 4);

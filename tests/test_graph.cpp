@@ -61,7 +61,8 @@ TEST_CASE("gpu: graph culls unused passes, transitions image layouts and times p
             VkClearColorValue value{};
             value.uint32[0] = 0xC0FFEEu;
             VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-            vkCmdClearColorImage(cmd, r.image(image), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &value, 1, &range);
+            vkCmdClearColorImage(cmd, r.image(image), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &value, 1,
+                                 &range);
         });
     bool unusedRan = false;
     g.addPass(
@@ -80,8 +81,8 @@ TEST_CASE("gpu: graph culls unused passes, transitions image layouts and times p
             VkBufferImageCopy region{};
             region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
             region.imageExtent = {w, h, 1};
-            vkCmdCopyImageToBuffer(cmd, r.image(image), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, r.buffer(out), 1,
-                                   &region);
+            vkCmdCopyImageToBuffer(cmd, r.image(image), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, r.buffer(out),
+                                   1, &region);
         });
     g.markOutput(out);
     auto timings = g.execute(ctx, pool);

@@ -14,7 +14,9 @@
 namespace iso::rc {
 // The core's fetch hook: tests point it at whatever samples they construct.
 inline std::function<float(glm::ivec3)> gTestFetch;
-inline float rcFetch(glm::ivec3 p) { return gTestFetch(p); }
+inline float rcFetch(glm::ivec3 p) {
+    return gTestFetch(p);
+}
 } // namespace iso::rc
 
 #include "ray_core.h"
@@ -32,7 +34,9 @@ double trilinear(const float c[8], glm::dvec3 u) {
     return v;
 }
 
-float cubicOf(double r0, double r1, double r2, double s) { return float((s - r0) * (s - r1) * (s - r2)); }
+float cubicOf(double r0, double r1, double r2, double s) {
+    return float((s - r0) * (s - r1) * (s - r2));
+}
 
 // Coefficients of (s - r0)(s - r1)(s - r2) times `scale`.
 vec4 fromRoots(double r0, double r1, double r2, double scale = 1.0) {
@@ -184,7 +188,9 @@ TEST_CASE("raycore: DDA visits exactly the cells a ray crosses") {
         checkSameCells(vec3(-1.0f, -1.0f, -1.0f), glm::normalize(vec3(1, 1, 1)), dims);
         checkSameCells(vec3(7.0f, 0.5f, 8.0f), glm::normalize(vec3(-1, 0, -1)), dims);
     }
-    SUBCASE("ray starting inside a cell") { checkSameCells(vec3(2.3f, 1.7f, 3.1f), glm::normalize(vec3(0.3f, -0.8f, 0.5f)), dims); }
+    SUBCASE("ray starting inside a cell") {
+        checkSameCells(vec3(2.3f, 1.7f, 3.1f), glm::normalize(vec3(0.3f, -0.8f, 0.5f)), dims);
+    }
     SUBCASE("random oblique rays") {
         std::mt19937 rng(11);
         std::uniform_real_distribution<float> p(-3.0f, 10.0f), q(-1.0f, 1.0f);
@@ -266,19 +272,23 @@ TEST_CASE("raycore: skipping crossings counts every crossing once, also on cell 
     SUBCASE("crossings inside cells") {
         gTestFetch = [](glm::ivec3 p) { return float(p.x % 2); }; // crosses 0.5 in every cell
         for (int skip = 0; skip < 9; ++skip) {
-            RcHit h = rcTraceIso(vec3(-1.0f, 1.0f, 1.0f), vec3(1, 0, 0), vec3(0.0f), vec3(dims - 1), dims, 0.5f, skip);
+            RcHit h = rcTraceIso(vec3(-1.0f, 1.0f, 1.0f), vec3(1, 0, 0), vec3(0.0f), vec3(dims - 1), dims,
+                                 0.5f, skip);
             REQUIRE(h.t >= 0.0f);
             CHECK(h.t == doctest::Approx(1.5 + skip).epsilon(1e-6));
             CHECK(h.cell.x == skip);
         }
-        CHECK(rcTraceIso(vec3(-1.0f, 1.0f, 1.0f), vec3(1, 0, 0), vec3(0.0f), vec3(dims - 1), dims, 0.5f, 9).t < 0.0f);
+        CHECK(
+            rcTraceIso(vec3(-1.0f, 1.0f, 1.0f), vec3(1, 0, 0), vec3(0.0f), vec3(dims - 1), dims, 0.5f, 9).t <
+            0.0f);
     }
     SUBCASE("crossings exactly on shared faces") {
         // Samples 0,1,2,1,0,1,2,... with iso 1: every crossing sits on a sample, i.e. on a face.
         gTestFetch = [](glm::ivec3 p) { return float(std::abs((p.x + 2) % 4 - 2)); };
         std::vector<float> ts;
         for (int skip = 0; skip < 12; ++skip) {
-            RcHit h = rcTraceIso(vec3(-1.0f, 1.0f, 1.0f), vec3(1, 0, 0), vec3(0.0f), vec3(dims - 1), dims, 1.0f, skip);
+            RcHit h = rcTraceIso(vec3(-1.0f, 1.0f, 1.0f), vec3(1, 0, 0), vec3(0.0f), vec3(dims - 1), dims,
+                                 1.0f, skip);
             if (h.t < 0.0f) break;
             ts.push_back(h.t - 1.0f); // as a sample index
         }

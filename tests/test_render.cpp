@@ -40,7 +40,8 @@ oracle::Metrics renderAndCompare(const Volume& vol, double iso, const Camera& ca
     opt.crop = crop;
     oracle::Image ref = oracle::render(vol, cam, w, h, opt);
     std::vector<uint64_t> ids(f.voxelIds.size());
-    for (size_t i = 0; i < ids.size(); ++i) ids[i] = f.voxelIds[i] == 0xFFFFFFFFu ? UINT64_MAX : f.voxelIds[i];
+    for (size_t i = 0; i < ids.size(); ++i)
+        ids[i] = f.voxelIds[i] == 0xFFFFFFFFu ? UINT64_MAX : f.voxelIds[i];
     oracle::Metrics m = oracle::compare(ref, vol, f.depth, ids);
     for (float v : f.rgba) m.nonFinite += std::isfinite(v) ? 0 : 1;
     return m;
@@ -57,20 +58,23 @@ void checkTargets(const oracle::Metrics& m, const std::string& what) {
 }
 
 std::vector<Camera> views(const Volume& vol) {
-    return {frameVolume(vol, 64, 64), test::orbitCamera(vol, 35.0, 25.0), test::orbitCamera(vol, -120.0, -40.0)};
+    return {frameVolume(vol, 64, 64), test::orbitCamera(vol, 35.0, 25.0),
+            test::orbitCamera(vol, -120.0, -40.0)};
 }
 
 } // namespace
 
 TEST_CASE("gpu: sphere distance field matches the oracle") {
     auto scene = analytic::sphereDistance(24, 8.0);
-    for (const auto& cam : views(scene.vol)) checkTargets(renderAndCompare(scene.vol, scene.iso, cam, 64, 64), "sphere");
+    for (const auto& cam : views(scene.vol))
+        checkTargets(renderAndCompare(scene.vol, scene.iso, cam, 64, 64), "sphere");
     CHECK(test::gpu().validationMessages() == 0);
 }
 
 TEST_CASE("gpu: Marschner-Lobb matches the oracle") {
     auto scene = analytic::marschnerLobb(41);
-    for (const auto& cam : views(scene.vol)) checkTargets(renderAndCompare(scene.vol, scene.iso, cam, 64, 64), "ML");
+    for (const auto& cam : views(scene.vol))
+        checkTargets(renderAndCompare(scene.vol, scene.iso, cam, 64, 64), "ML");
     CHECK(test::gpu().validationMessages() == 0);
 }
 
@@ -83,7 +87,8 @@ TEST_CASE("gpu: anisotropic spacing, rotated directions and an origin match the 
 
 TEST_CASE("gpu: a u16 scan matches the oracle") {
     auto scene = analytic::sphereU16(24, 8.0);
-    for (const auto& cam : views(scene.vol)) checkTargets(renderAndCompare(scene.vol, scene.iso, cam, 64, 64), "u16");
+    for (const auto& cam : views(scene.vol))
+        checkTargets(renderAndCompare(scene.vol, scene.iso, cam, 64, 64), "u16");
     CHECK(test::gpu().validationMessages() == 0);
 }
 
@@ -134,8 +139,8 @@ TEST_CASE("gpu: the bundled head matches its golden image") {
     if (fraction > maxFailing) {
         auto out = std::filesystem::path(ISOSCOPE_BINARY_DIR) / "golden-diff-headsq_skin_128.png";
         writePng(out, 128, 128, diff);
-        MESSAGE("golden mismatch: worst difference " << worst << ", failing pixels " << failing << "; diff image "
-                                                     << out.string());
+        MESSAGE("golden mismatch: worst difference " << worst << ", failing pixels " << failing
+                                                     << "; diff image " << out.string());
     }
     CHECK(fraction <= maxFailing);
     CHECK(test::gpu().validationMessages() == 0);

@@ -27,7 +27,8 @@ Sync syncOf(Access a) {
         return {VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
                 VK_IMAGE_LAYOUT_GENERAL};
     case Access::TransferRead:
-        return {VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL};
+        return {VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT,
+                VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL};
     case Access::TransferWrite:
         return {VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                 VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL};
@@ -65,11 +66,14 @@ void RenderGraph::PassBuilder::write(ResourceId id, Access access) {
 
 VkBuffer RenderGraph::Resources::buffer(ResourceId id) const {
     const auto& r = graph_.resources_.at(id);
-    if (r.isImage || !r.buffer) throw std::logic_error("graph resource '" + r.name + "' is not a live buffer");
+    if (r.isImage || !r.buffer)
+        throw std::logic_error("graph resource '" + r.name + "' is not a live buffer");
     return r.buffer;
 }
 
-VkDeviceSize RenderGraph::Resources::size(ResourceId id) const { return graph_.resources_.at(id).size; }
+VkDeviceSize RenderGraph::Resources::size(ResourceId id) const {
+    return graph_.resources_.at(id).size;
+}
 
 VkImage RenderGraph::Resources::image(ResourceId id) const {
     const auto& r = graph_.resources_.at(id);
@@ -117,7 +121,9 @@ void RenderGraph::addPass(const std::string& name, const Setup& setup, Record re
             throw std::logic_error("pass '" + name + "' uses a resource the graph does not know");
 }
 
-void RenderGraph::markOutput(ResourceId id) { resources_.at(id).output = true; }
+void RenderGraph::markOutput(ResourceId id) {
+    resources_.at(id).output = true;
+}
 
 // Walks backwards from the outputs: a pass lives when it writes something that is an output or
 // that a live later pass reads.
@@ -175,7 +181,8 @@ void RenderGraph::recordBarriers(VkCommandBuffer cmd, const Pass& pass,
             }
         }
         // Several uses of one resource in one pass: a write wins, so the next pass waits for it.
-        if (use.write || last[use.id].first == Access(-1) || !last[use.id].second) last[use.id] = {use.access, use.write};
+        if (use.write || last[use.id].first == Access(-1) || !last[use.id].second)
+            last[use.id] = {use.access, use.write};
     }
     if (!bufferBarriers.empty() || !imageBarriers.empty())
         vkCmdPipelineBarrier(cmd, srcStages, dstStages, 0, 0, nullptr, uint32_t(bufferBarriers.size()),
@@ -207,10 +214,13 @@ std::vector<PassTiming> RenderGraph::execute(const vk::Context& ctx, TransientPo
             recordBarriers(cmd, *live[i], last);
             // Bottom-of-pipe on both ends: each stamp is written once all earlier work is done,
             // so the difference is this pass's time alone.
-            if (timed) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries.handle(), uint32_t(2 * i));
+            if (timed)
+                vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries.handle(),
+                                    uint32_t(2 * i));
             live[i]->record(cmd, view);
             if (timed)
-                vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries.handle(), uint32_t(2 * i + 1));
+                vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries.handle(),
+                                    uint32_t(2 * i + 1));
         }
         // Outputs the host reads back must be made visible to it.
         std::vector<VkBufferMemoryBarrier> hostBarriers;
@@ -247,17 +257,19 @@ std::vector<std::string> RenderGraph::livePasses() const {
     return names;
 }
 
-VkImageLayout RenderGraph::finalLayout(ResourceId id) const { return resources_.at(id).layout; }
+VkImageLayout RenderGraph::finalLayout(ResourceId id) const {
+    return resources_.at(id).layout;
+}
 
 std::string RenderGraph::graphviz() const {
     std::ostringstream out;
     out << "digraph frame {\n  rankdir=LR;\n";
     for (ResourceId i = 0; i < resources_.size(); ++i)
-        out << "  r" << i << " [shape=box,label=\"" << resources_[i].name << "\"" << (resources_[i].output ? ",peripheries=2" : "")
-            << "];\n";
+        out << "  r" << i << " [shape=box,label=\"" << resources_[i].name << "\""
+            << (resources_[i].output ? ",peripheries=2" : "") << "];\n";
     for (size_t p = 0; p < passes_.size(); ++p) {
-        out << "  p" << p << " [shape=ellipse,label=\"" << passes_[p].name << "\"" << (passes_[p].live ? "" : ",color=grey,fontcolor=grey")
-            << "];\n";
+        out << "  p" << p << " [shape=ellipse,label=\"" << passes_[p].name << "\""
+            << (passes_[p].live ? "" : ",color=grey,fontcolor=grey") << "];\n";
         for (const auto& u : passes_[p].uses)
             out << (u.write ? "  p" + std::to_string(p) + " -> r" + std::to_string(u.id)
                             : "  r" + std::to_string(u.id) + " -> p" + std::to_string(p))

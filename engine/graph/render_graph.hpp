@@ -89,7 +89,7 @@ class RenderGraph {
 
     std::vector<std::string> livePasses() const; // after execute(): the passes that ran, in order
     VkImageLayout finalLayout(ResourceId id) const;
-    std::string graphviz() const;                // for debugging: passes, resources, culled passes grey
+    std::string graphviz() const; // for debugging: passes, resources, culled passes grey
 
   private:
     struct Use {

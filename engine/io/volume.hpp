@@ -17,7 +17,7 @@ namespace iso {
 enum class VoxelType : uint8_t { U8, I16, U16, F32 };
 
 std::size_t voxelBytes(VoxelType t);
-const char* voxelTypeName(VoxelType t); // "u8", "i16", "u16", "f32"
+const char* voxelTypeName(VoxelType t);                        // "u8", "i16", "u16", "f32"
 std::optional<VoxelType> parseVoxelType(const std::string& s); // accepts u8/uint8/uchar, i16/int16/short, ...
 
 // World position of sample (i,j,k) = origin + directions * (spacing * (i,j,k)).

@@ -23,38 +23,49 @@ static_assert(sizeof(rc::RenderParams) == 19 * 16, "RenderParams must match its 
 static_assert(offsetof(rc::RenderParams, boxMin) == 7 * 16, "RenderParams member order must match GLSL");
 static_assert(offsetof(rc::RenderParams, background) == 13 * 16, "RenderParams member order must match GLSL");
 static_assert(offsetof(rc::RenderParams, counts) == 16 * 16, "RenderParams member order must match GLSL");
-static_assert(offsetof(rc::RenderParams, seedColours) == 17 * 16, "std140 arrays of vec4 have a 16-byte stride");
+static_assert(offsetof(rc::RenderParams, seedColours) == 17 * 16,
+              "std140 arrays of vec4 have a 16-byte stride");
 
 namespace {
 
 VkFormat texelFormat(VoxelType t) {
     switch (t) {
-    case VoxelType::U8: return VK_FORMAT_R8_UINT;
-    case VoxelType::I16: return VK_FORMAT_R16_SINT;
-    case VoxelType::U16: return VK_FORMAT_R16_UINT;
-    case VoxelType::F32: return VK_FORMAT_R32_SFLOAT;
+    case VoxelType::U8:
+        return VK_FORMAT_R8_UINT;
+    case VoxelType::I16:
+        return VK_FORMAT_R16_SINT;
+    case VoxelType::U16:
+        return VK_FORMAT_R16_UINT;
+    case VoxelType::F32:
+        return VK_FORMAT_R32_SFLOAT;
     }
     throw std::logic_error("unknown voxel type");
 }
 
 int volumeKind(VoxelType t) {
     switch (t) {
-    case VoxelType::F32: return 0;
-    case VoxelType::I16: return 1;
-    default: return 2;
+    case VoxelType::F32:
+        return 0;
+    case VoxelType::I16:
+        return 1;
+    default:
+        return 2;
     }
 }
 
 constexpr uint32_t kTransferEntries = 1024; // tabulated transfer function for the FVR pass
 
-glm::vec4 v4(const glm::dvec3& v, double w = 0.0) { return glm::vec4(glm::dvec4(v, w)); }
+glm::vec4 v4(const glm::dvec3& v, double w = 0.0) {
+    return glm::vec4(glm::dvec4(v, w));
+}
 
 // The camera mapped into index space, plus the crop box and shading (see RenderParams).
 rc::RenderParams makeParams(const Volume& vol, const RenderSettings& s) {
     const Camera& cam = s.camera;
     // world = origin + M * index, with M = directions * diag(spacing)
-    glm::dmat3 M = vol.directions * glm::dmat3(glm::dvec3(vol.spacing.x, 0, 0), glm::dvec3(0, vol.spacing.y, 0),
-                                               glm::dvec3(0, 0, vol.spacing.z));
+    glm::dmat3 M =
+        vol.directions * glm::dmat3(glm::dvec3(vol.spacing.x, 0, 0), glm::dvec3(0, vol.spacing.y, 0),
+                                    glm::dvec3(0, 0, vol.spacing.z));
     glm::dmat3 toIndex = glm::inverse(M);
     glm::dvec3 forward = glm::normalize(cam.target - cam.eye);
     glm::dvec3 right = glm::normalize(glm::cross(forward, cam.up));
@@ -107,10 +118,14 @@ std::vector<T> copyOut(const vk::Buffer& b, size_t count) {
 
 const char* modeName(RenderMode m) {
     switch (m) {
-    case RenderMode::Mono: return "mono";
-    case RenderMode::CeirShallow: return "ceir-shallow";
-    case RenderMode::CeirDeep: return "ceir-deep";
-    case RenderMode::Fvr: return "fvr";
+    case RenderMode::Mono:
+        return "mono";
+    case RenderMode::CeirShallow:
+        return "ceir-shallow";
+    case RenderMode::CeirDeep:
+        return "ceir-deep";
+    case RenderMode::Fvr:
+        return "fvr";
     }
     return "?";
 }
@@ -124,7 +139,8 @@ std::optional<RenderMode> parseMode(const std::string& s) {
 void addPeelWindow(std::vector<uint32_t>& peelBuffer, int width, int height, int x0, int y0, int x1, int y1) {
     peelBuffer.resize(size_t(width) * size_t(height), 0u);
     for (int y = std::max(y0, 0); y < std::min(y1, height); ++y)
-        for (int x = std::max(x0, 0); x < std::min(x1, width); ++x) ++peelBuffer[size_t(y) * size_t(width) + size_t(x)];
+        for (int x = std::max(x0, 0); x < std::min(x1, width); ++x)
+            ++peelBuffer[size_t(y) * size_t(width) + size_t(x)];
 }
 
 double Frame::gpuMs(const std::string& pass) const {
@@ -134,12 +150,15 @@ double Frame::gpuMs(const std::string& pass) const {
 }
 
 Renderer::Renderer(const vk::Context& ctx)
-    : ctx_(ctx), params_(ctx, sizeof(rc::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, vk::MemoryUse::Upload) {}
+    : ctx_(ctx),
+      params_(ctx, sizeof(rc::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, vk::MemoryUse::Upload) {}
 
 void Renderer::setVolume(const Volume& vol) {
     if (vol.dims[0] < 2 || vol.dims[1] < 2 || vol.dims[2] < 2)
-        throw std::runtime_error(vol.source + ": a volume needs at least 2 samples along every axis to hold cells");
-    volumeImage_ = vk::VolumeImage(ctx_, texelFormat(vol.type), vol.dims[0], vol.dims[1], vol.dims[2], vol.data);
+        throw std::runtime_error(vol.source +
+                                 ": a volume needs at least 2 samples along every axis to hold cells");
+    volumeImage_ =
+        vk::VolumeImage(ctx_, texelFormat(vol.type), vol.dims[0], vol.dims[1], vol.dims[2], vol.data);
     geometry_ = vol;
     geometry_.data.clear();
     geometry_.data.shrink_to_fit();
@@ -164,9 +183,11 @@ vk::ComputePipeline& Renderer::isoPipeline(RenderMode mode, bool peel, bool seed
     int shaderMode = mode == RenderMode::CeirShallow ? ISO_MODE_CEIR_SHALLOW
                      : mode == RenderMode::CeirDeep  ? ISO_MODE_CEIR_DEEP
                                                      : ISO_MODE_MONO;
-    std::vector<vk::SpecConstant> constants{
-        {ISO_SPEC_MODE, uint32_t(shaderMode)}, {ISO_SPEC_PEEL, peel ? 1u : 0u}, {ISO_SPEC_SEEDS, seeds ? 1u : 0u}};
-    return isoPipelines_.emplace(key, vk::ComputePipeline(ctx_, code, passBindings(), constants)).first->second;
+    std::vector<vk::SpecConstant> constants{{ISO_SPEC_MODE, uint32_t(shaderMode)},
+                                            {ISO_SPEC_PEEL, peel ? 1u : 0u},
+                                            {ISO_SPEC_SEEDS, seeds ? 1u : 0u}};
+    return isoPipelines_.emplace(key, vk::ComputePipeline(ctx_, code, passBindings(), constants))
+        .first->second;
 }
 
 vk::ComputePipeline& Renderer::fvrPipeline() {
@@ -180,7 +201,8 @@ vk::ComputePipeline& Renderer::fvrPipeline() {
 
 vk::Buffer& Renderer::readback(const std::string& name, VkDeviceSize size) {
     auto& b = readbacks_[name];
-    if (b.size() != size) b = vk::Buffer(ctx_, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::MemoryUse::Readback);
+    if (b.size() != size)
+        b = vk::Buffer(ctx_, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, vk::MemoryUse::Readback);
     return b;
 }
 
@@ -207,7 +229,8 @@ Frame Renderer::render(const RenderSettings& s, const FrameOutputs& outputs) {
     }
     if (fvr && (!transferTable_ || !(tableOf_ == s.tf))) {
         auto table = tabulate(s.tf, int(kTransferEntries));
-        transferTable_ = vk::Buffer::deviceLocalCopy(ctx_, table.data(), table.size() * sizeof(glm::vec4), read);
+        transferTable_ =
+            vk::Buffer::deviceLocalCopy(ctx_, table.data(), table.size() * sizeof(glm::vec4), read);
         tableOf_ = s.tf;
     }
     if (peel) peelBuffer_ = vk::Buffer::deviceLocalCopy(ctx_, s.peelBuffer.data(), pixels * 4, read);
@@ -310,8 +333,10 @@ std::vector<uint8_t> encodeSrgb8(const std::vector<float>& rgba) {
     std::vector<uint8_t> out(rgba.size());
     for (size_t i = 0; i < rgba.size(); ++i) {
         float v = std::isfinite(rgba[i]) ? std::fmin(std::fmax(rgba[i], 0.0f), 1.0f) : 0.0f;
-        if (i % 4 != 3) v = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-        else v = 1.0f; // files show the background too, so they are opaque
+        if (i % 4 != 3)
+            v = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+        else
+            v = 1.0f; // files show the background too, so they are opaque
         out[i] = uint8_t(std::lround(v * 255.0f));
     }
     return out;

@@ -33,17 +33,17 @@ struct RenderSettings {
     int width = 512;
     int height = 512;
     Camera camera;
-    double iso = 0.0;                           // in the scan's own units
+    double iso = 0.0;                          // in the scan's own units
     std::optional<std::array<double, 6>> crop; // i0,j0,k0,i1,j1,k1 in sample-index units
     Shading shading;
     bool shade = true; // false: the material colour alone (no lighting)
 
     RenderMode mode = RenderMode::Mono;
     LocalTransferFunction tf = defaultTransferFunction(); // CEIR and FVR
-    std::optional<double> densityFactor; // default: tf.deltaV / smallest spacing
-    int mapIntervals = 256;              // m of the speed-colour map
-    std::optional<double> deepReach;     // world units; default 16 smallest spacings
-    std::optional<double> fvrStep;       // world units; default a quarter of the smallest spacing
+    std::optional<double> densityFactor;                  // default: tf.deltaV / smallest spacing
+    int mapIntervals = 256;                               // m of the speed-colour map
+    std::optional<double> deepReach;                      // world units; default 16 smallest spacings
+    std::optional<double> fvrStep; // world units; default a quarter of the smallest spacing
 
     // Surface peeling (paper §5.2): crossings to skip, one count per pixel; empty for none.
     std::vector<uint32_t> peelBuffer;
@@ -86,7 +86,7 @@ class Renderer {
 
   private:
     const vk::Context& ctx_;
-    Volume geometry_;    // the scan without its samples: dims, spacing, origin, directions
+    Volume geometry_; // the scan without its samples: dims, spacing, origin, directions
     bool hasVolume_ = false;
     int volumeKind_ = 0; // 0 float, 1 signed integer, 2 unsigned integer texels
     vk::VolumeImage volumeImage_;

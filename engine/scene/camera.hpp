@@ -25,7 +25,8 @@ struct Ray {
 };
 
 // Ray through the centre of pixel (x, y) of a width x height image; x right, y down from the top row.
-// Perspective rays start at the eye; orthographic rays on the plane through the eye perpendicular to the view.
+// Perspective rays start at the eye; orthographic rays on the plane through the eye perpendicular to the
+// view.
 Ray primaryRay(const Camera& cam, int width, int height, int x, int y);
 
 // Reads {"eye":[..],"target":[..],"up":[..],"fovy_deg":30} or with "projection":"orthographic","height":h.

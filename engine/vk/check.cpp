@@ -7,7 +7,8 @@ namespace iso::vk {
 const char* resultName(VkResult r) {
     switch (r) {
 #define ISO_VK_RESULT(name)                                                                                  \
-    case name: return #name;
+    case name:                                                                                               \
+        return #name;
         ISO_VK_RESULT(VK_SUCCESS)
         ISO_VK_RESULT(VK_NOT_READY)
         ISO_VK_RESULT(VK_TIMEOUT)
@@ -33,13 +34,15 @@ const char* resultName(VkResult r) {
         ISO_VK_RESULT(VK_SUBOPTIMAL_KHR)
         ISO_VK_RESULT(VK_ERROR_OUT_OF_DATE_KHR)
 #undef ISO_VK_RESULT
-    default: return "VK_RESULT_UNKNOWN";
+    default:
+        return "VK_RESULT_UNKNOWN";
     }
 }
 
 void throwVkError(VkResult r, const char* call, const char* file, int line) {
     throw VulkanError(r, std::string("Vulkan call failed with ") + resultName(r) + ": " + call + " (" +
-                             std::filesystem::path(file).filename().string() + ":" + std::to_string(line) + ")");
+                             std::filesystem::path(file).filename().string() + ":" + std::to_string(line) +
+                             ")");
 }
 
 } // namespace iso::vk

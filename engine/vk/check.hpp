@@ -22,5 +22,6 @@ const char* resultName(VkResult r);
 #define VK_CHECK(call)                                                                                       \
     do {                                                                                                     \
         VkResult vkCheckResult_ = (call);                                                                    \
-        if (vkCheckResult_ != VK_SUCCESS) ::iso::vk::throwVkError(vkCheckResult_, #call, __FILE__, __LINE__); \
+        if (vkCheckResult_ != VK_SUCCESS)                                                                    \
+            ::iso::vk::throwVkError(vkCheckResult_, #call, __FILE__, __LINE__);                              \
     } while (0)

@@ -48,7 +48,8 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage, 
     }
 }
 
-Buffer Buffer::deviceLocalCopy(const Context& ctx, const void* data, VkDeviceSize bytes, VkBufferUsageFlags usage) {
+Buffer Buffer::deviceLocalCopy(const Context& ctx, const void* data, VkDeviceSize bytes,
+                               VkBufferUsageFlags usage) {
     const VkDeviceSize given = bytes;
     bytes = std::max<VkDeviceSize>(bytes, 16); // empty lists still bind a valid buffer
     Buffer staging(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload);
@@ -66,8 +67,8 @@ Buffer Buffer::deviceLocalCopy(const Context& ctx, const void* data, VkDeviceSiz
         b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
         b.buffer = out.handle();
         b.size = VK_WHOLE_SIZE;
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, nullptr, 1,
-                             &b, 0, nullptr);
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0,
+                             nullptr, 1, &b, 0, nullptr);
     });
     return out;
 }
@@ -100,14 +101,15 @@ VolumeImage::VolumeImage(const Context& ctx, VkFormat format, uint32_t nx, uint3
     VkFormatProperties fp;
     vkGetPhysicalDeviceFormatProperties(ctx.physicalDevice(), format, &fp);
     if (!(fp.optimalTilingFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT))
-        throw std::runtime_error(ctx.deviceName() + " cannot sample 3D images of the volume's format (VkFormat " +
+        throw std::runtime_error(ctx.deviceName() +
+                                 " cannot sample 3D images of the volume's format (VkFormat " +
                                  std::to_string(int(format)) + ")");
     const auto& limits = ctx.properties().limits;
     uint32_t maxDim = limits.maxImageDimension3D;
     if (nx > maxDim || ny > maxDim || nz > maxDim)
         throw std::runtime_error("volume " + std::to_string(nx) + "x" + std::to_string(ny) + "x" +
-                                 std::to_string(nz) + " exceeds " + ctx.deviceName() + "'s 3D image limit of " +
-                                 std::to_string(maxDim) + " per axis");
+                                 std::to_string(nz) + " exceeds " + ctx.deviceName() +
+                                 "'s 3D image limit of " + std::to_string(maxDim) + " per axis");
     try {
         VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
         info.imageType = VK_IMAGE_TYPE_3D;
@@ -142,13 +144,14 @@ VolumeImage::VolumeImage(const Context& ctx, VkFormat format, uint32_t nx, uint3
                 toDst.srcAccessMask = 0;
                 toDst.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
                 // The first chunk discards undefined contents; later chunks keep earlier slabs.
-                toDst.oldLayout = z0 == 0 ? VK_IMAGE_LAYOUT_UNDEFINED : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+                toDst.oldLayout =
+                    z0 == 0 ? VK_IMAGE_LAYOUT_UNDEFINED : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
                 toDst.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
                 toDst.srcQueueFamilyIndex = toDst.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
                 toDst.image = image_;
                 toDst.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-                vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
-                                     nullptr, 0, nullptr, 1, &toDst);
+                vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                                     0, 0, nullptr, 0, nullptr, 1, &toDst);
                 VkBufferImageCopy region{};
                 region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
                 region.imageOffset = {0, 0, int32_t(z0)};
@@ -160,8 +163,9 @@ VolumeImage::VolumeImage(const Context& ctx, VkFormat format, uint32_t nx, uint3
                 toRead.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
                 toRead.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
                 toRead.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
-                vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0,
-                                     0, nullptr, 0, nullptr, 1, &toRead);
+                vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, nullptr, 0, nullptr, 1,
+                                     &toRead);
             });
         }
 

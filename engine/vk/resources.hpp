@@ -17,7 +17,8 @@ class Buffer {
   public:
     // A device-local buffer holding `bytes` from the host, copied through a staging buffer:
     // for data the GPU reads every frame but the host changes rarely (colour maps, seed lists).
-    static Buffer deviceLocalCopy(const Context& ctx, const void* data, VkDeviceSize bytes, VkBufferUsageFlags usage);
+    static Buffer deviceLocalCopy(const Context& ctx, const void* data, VkDeviceSize bytes,
+                                  VkBufferUsageFlags usage);
 
     Buffer() = default;
     Buffer(const Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage, MemoryUse use);

@@ -41,23 +41,24 @@ namespace iso::rc {
 // traversal never leaves it; t along a ray stays the world distance because the index-space
 // direction is the image of a unit world vector.
 struct RenderParams {
-    vec4 eye;        // xyz: eye in index space; w: 1 for orthographic
-    vec4 forward;    // xyz: index-space image of the unit world view direction; w: half-extent along right
-    vec4 right;      // xyz: image of the unit world right vector; w: half-extent along up
-    vec4 up;         // xyz: image of the unit world up vector
-    vec4 toIndex0;   // rows of the linear part of world -> index, for world-space gradients
+    vec4 eye;      // xyz: eye in index space; w: 1 for orthographic
+    vec4 forward;  // xyz: index-space image of the unit world view direction; w: half-extent along right
+    vec4 right;    // xyz: image of the unit world right vector; w: half-extent along up
+    vec4 up;       // xyz: image of the unit world up vector
+    vec4 toIndex0; // rows of the linear part of world -> index, for world-space gradients
     vec4 toIndex1;
     vec4 toIndex2;
-    vec4 boxMin;     // xyz: crop box in index space (within [0, n-1]); w: isovalue (fetches return the scan's own values)
-    vec4 boxMax;     // xyz: crop box max; w: unused
-    uvec4 dims;      // xyz: samples per axis
-    uvec4 image;     // xy: image size in pixels
+    vec4 boxMin; // xyz: crop box in index space (within [0, n-1]); w: isovalue (fetches return the scan's own
+                 // values)
+    vec4 boxMax; // xyz: crop box max; w: unused
+    uvec4 dims;  // xyz: samples per axis
+    uvec4 image; // xy: image size in pixels
     vec4 material;   // rgb: surface colour; a: ambient
     vec4 lighting;   // x: diffuse, y: specular, z: shininess
     vec4 background; // rgb: background colour; w: 1 to shade, 0 for the material colour alone
     vec4 ceir;       // x: densityFactor, y: deltaV, z: deep-search step (world), w: deep-search reach (world)
     vec4 fvr;        // x: sampling step (world), y: standard sample distance s0 = deltaV / densityFactor
-    uvec4 counts;    // x: speed-colour map intervals m, y: transfer table entries, z, w: fore/background seeds
+    uvec4 counts; // x: speed-colour map intervals m, y: transfer table entries, z, w: fore/background seeds
     vec4 seedColours[2]; // rgb of hits in foreground and background seed cells
 };
 

@@ -33,8 +33,10 @@ RC_FN bool rcSeedListHas(uint first, uint count, uint id) {
         uint mid = (lo + hi) / 2u;
         uint v = rcSeedAt(mid);
         if (v == id) return true;
-        if (v < id) lo = mid + 1u;
-        else hi = mid;
+        if (v < id)
+            lo = mid + 1u;
+        else
+            hi = mid;
     }
     return false;
 }
@@ -95,8 +97,10 @@ RC_FN RcPixel rcIsoSurfacePixel(RC_CONST RenderParams p, uvec2 px, int mode, boo
         base = rcSpeedColour(vPrime / p.ceir.x, int(p.counts.x));
     }
     if (seeds) {
-        if (rcSeedListHas(0u, p.counts.z, res.voxelId)) base = vec3(p.seedColours[0]);
-        else if (rcSeedListHas(p.counts.z, p.counts.w, res.voxelId)) base = vec3(p.seedColours[1]);
+        if (rcSeedListHas(0u, p.counts.z, res.voxelId))
+            base = vec3(p.seedColours[0]);
+        else if (rcSeedListHas(p.counts.z, p.counts.w, res.voxelId))
+            base = vec3(p.seedColours[1]);
     }
     vec3 c = p.background.w != 0.0 ? rcShadeHeadlight(p, g, d, base) : base;
     res.colour = vec4(c, 1.0);

@@ -57,11 +57,13 @@ RC_FN vec4 rcCellCubic(float c[8], vec3 a, vec3 d, float iso) {
         q[k] = vec3(e0.x + a.y * de.x, e0.y + a.y * de.y + d.y * de.x, d.y * de.y);
     }
     vec3 dq = q[1] - q[0];
-    return vec4(q[0].x + a.z * dq.x - iso, q[0].y + a.z * dq.y + d.z * dq.x,
-                q[0].z + a.z * dq.z + d.z * dq.y, d.z * dq.z);
+    return vec4(q[0].x + a.z * dq.x - iso, q[0].y + a.z * dq.y + d.z * dq.x, q[0].z + a.z * dq.z + d.z * dq.y,
+                d.z * dq.z);
 }
 
-RC_FN float rcCubicAt(vec4 c, float s) { return ((c.w * s + c.z) * s + c.y) * s + c.x; }
+RC_FN float rcCubicAt(vec4 c, float s) {
+    return ((c.w * s + c.z) * s + c.y) * s + c.x;
+}
 
 // The first root of g in the monotone piece [lo, hi], given g's values at the ends.
 // "f >= iso is inside", so an exact zero is a hit and a sign change is judged by g >= 0.
@@ -143,7 +145,9 @@ RC_FN bool rcNextRoot(vec4 c, float len, float sAfter, RC_INOUT(float) s) {
     return false;
 }
 
-RC_FN bool rcFirstRoot(vec4 c, float len, RC_INOUT(float) s) { return rcNextRoot(c, len, -1.0f, s); }
+RC_FN bool rcFirstRoot(vec4 c, float len, RC_INOUT(float) s) {
+    return rcNextRoot(c, len, -1.0f, s);
+}
 
 RC_FN void rcFetchCorners(ivec3 cell, RC_OUT_ARRAY(float) c[8]) {
     for (int k = 0; k < 2; ++k)
@@ -176,13 +180,13 @@ RC_FN vec3 rcGradient(vec3 p, ivec3 dims) {
 
 // Voxel-by-voxel traversal state (Amanatides-Woo 3D-DDA) over the cells of a box.
 struct RcDda {
-    ivec3 cell;     // current cell (its lowest corner)
-    ivec3 stepDir;  // -1, 0 or +1 per axis
-    vec3 invD;      // 1 / d, 0 where d is 0
-    ivec3 lowCell;  // cells the box touches
+    ivec3 cell;    // current cell (its lowest corner)
+    ivec3 stepDir; // -1, 0 or +1 per axis
+    vec3 invD;     // 1 / d, 0 where d is 0
+    ivec3 lowCell; // cells the box touches
     ivec3 highCell;
-    float tIn;      // where the ray enters the current cell
-    float tEnd;     // where it leaves the box
+    float tIn;  // where the ray enters the current cell
+    float tEnd; // where it leaves the box
 };
 
 // Starts the traversal at the ray's entry into the box (or at t = 0 inside it).
@@ -203,7 +207,8 @@ RC_FN bool rcDdaBegin(vec3 o, vec3 d, vec3 bmin, vec3 bmax, ivec3 dims, RC_OUT(R
     s.cell = clamp(ivec3(floor(o + t0 * d)), s.lowCell, s.highCell);
     s.stepDir = ivec3(d.x > 0.0 ? 1 : (d.x < 0.0 ? -1 : 0), d.y > 0.0 ? 1 : (d.y < 0.0 ? -1 : 0),
                       d.z > 0.0 ? 1 : (d.z < 0.0 ? -1 : 0));
-    s.invD = vec3(d.x != 0.0 ? 1.0f / d.x : 0.0, d.y != 0.0 ? 1.0f / d.y : 0.0, d.z != 0.0 ? 1.0f / d.z : 0.0);
+    s.invD =
+        vec3(d.x != 0.0 ? 1.0f / d.x : 0.0, d.y != 0.0 ? 1.0f / d.y : 0.0, d.z != 0.0 ? 1.0f / d.z : 0.0);
     s.tIn = t0;
     s.tEnd = t1;
     return true;
@@ -224,7 +229,9 @@ RC_FN vec3 rcDdaAxisExits(vec3 o, RcDda s) {
     return tExit;
 }
 
-RC_FN float rcDdaCellExit(vec3 tExit, RcDda s) { return min(min(min(tExit.x, tExit.y), tExit.z), s.tEnd); }
+RC_FN float rcDdaCellExit(vec3 tExit, RcDda s) {
+    return min(min(min(tExit.x, tExit.y), tExit.z), s.tEnd);
+}
 
 // Moves to the next cell; false when the ray has left the box. All axes whose boundaries the ray
 // reaches at tOut are stepped together, so rays through edges and corners visit exactly the cells
