@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <tuple>
 #include <charconv>
+#include <cstdio>
 #include <cmath>
 #include <random>
 #include <sstream>
@@ -199,6 +200,28 @@ RenderSettings sceneSettings(const Args& args, RenderMode defaultMode) {
         }
     }
     return s;
+}
+
+vk::ContextOptions contextOptions(const Args& args) {
+    vk::ContextOptions options;
+    options.validation = args.flag("validate");
+    options.device = args.get("device").value_or("");
+    return options;
+}
+
+bool printedHelp(const Args& args, const char* help) {
+    if (!args.flag("help")) return false;
+    std::printf(help, kScanOptionsHelp);
+    return true;
+}
+
+std::vector<std::string> sceneOptions(std::vector<std::string> extra) {
+    std::vector<std::string> known{
+        "iso",      "size",       "camera",      "crop",           "device", "validate", "help",
+        "raw-dims", "raw-type",   "raw-spacing", "raw-big-endian", "mode",   "tf",       "density-factor",
+        "shading",  "deep-reach", "step",        "map-size",       "peel",   "seeds"};
+    known.insert(known.end(), extra.begin(), extra.end());
+    return known;
 }
 
 Camera cameraFor(const Args& args, const Volume& vol, int width, int height) {

@@ -5,6 +5,7 @@
 #include "io/volume.hpp"
 #include "render/renderer.hpp"
 #include "scene/camera.hpp"
+#include "vk/context.hpp"
 
 #include <filesystem>
 #include <map>
@@ -63,6 +64,15 @@ class Outputs {
 // --density-factor, --shading, --deep-reach, --step, --map-size, --crop, --peel, --seeds.
 // Everything is checked before the scan is loaded, so mistakes are reported at once.
 RenderSettings sceneSettings(const Args& args, RenderMode defaultMode);
+
+// --device and --validate, for the verbs that use the GPU.
+vk::ContextOptions contextOptions(const Args& args);
+
+// Prints a verb's help (its text has one %s for the scan options) when --help was given.
+bool printedHelp(const Args& args, const char* help);
+
+// Options every scene verb takes: the scan, the view, the device and the scene settings.
+std::vector<std::string> sceneOptions(std::vector<std::string> extra);
 
 extern const char* kScanOptionsHelp;
 

@@ -33,13 +33,8 @@ Example:
 
 int compareVerb(int argc, char** argv) {
     cli::Args args(argc, argv, 2, {"validate", "help", "raw-big-endian"});
-    if (args.flag("help")) {
-        std::printf(kCompareHelp, cli::kScanOptionsHelp);
-        return 0;
-    }
-    args.allowOnly({"iso", "out", "size", "camera", "crop", "device", "validate", "help", "raw-dims",
-                    "raw-type", "raw-spacing", "raw-big-endian", "mode", "tf", "density-factor", "shading",
-                    "deep-reach", "step", "map-size"});
+    if (cli::printedHelp(args, kCompareHelp)) return 0;
+    args.allowOnly(cli::sceneOptions({"out"}));
     RenderSettings ceir = cli::sceneSettings(args, RenderMode::CeirShallow);
     if (ceir.mode == RenderMode::Fvr)
         throw cli::UsageError("--mode: compare puts a CEIR or mono mode beside fvr");
@@ -50,10 +45,7 @@ int compareVerb(int argc, char** argv) {
     RenderSettings fvr = ceir;
     fvr.mode = RenderMode::Fvr;
 
-    vk::ContextOptions options;
-    options.validation = args.flag("validate");
-    options.device = args.get("device").value_or("");
-    vk::Context ctx(options);
+    vk::Context ctx(cli::contextOptions(args));
     Renderer renderer(ctx);
     renderer.setVolume(vol);
     Frame a = renderer.render(ceir);

@@ -48,13 +48,10 @@ double trilinear(const Volume& v, glm::dvec3 p) {
 
 int pickVerb(int argc, char** argv) {
     cli::Args args(argc, argv, 2, {"validate", "help", "raw-big-endian"});
-    if (args.flag("help")) {
-        std::printf(kPickHelp, cli::kScanOptionsHelp);
-        return 0;
-    }
-    args.allowOnly({"iso", "size", "camera", "crop", "peel", "at", "rect", "device", "validate", "help",
-                    "raw-dims", "raw-type", "raw-spacing", "raw-big-endian"});
+    if (cli::printedHelp(args, kPickHelp)) return 0;
+    args.allowOnly(cli::sceneOptions({"at", "rect"}));
     RenderSettings settings = cli::sceneSettings(args, RenderMode::Mono);
+    if (settings.mode == RenderMode::Fvr) throw cli::UsageError("--mode fvr shows no surface to pick");
     const int w = settings.width, h = settings.height;
     std::vector<double> at, rect;
     if (auto a = args.get("at")) at = cli::parseList("at", *a, 2);
@@ -70,10 +67,7 @@ int pickVerb(int argc, char** argv) {
 
     Volume vol = cli::loadScan(args);
     settings.camera = cli::cameraFor(args, vol, w, h);
-    vk::ContextOptions options;
-    options.validation = args.flag("validate");
-    options.device = args.get("device").value_or("");
-    vk::Context ctx(options);
+    vk::Context ctx(cli::contextOptions(args));
     Renderer renderer(ctx);
     renderer.setVolume(vol);
     Frame frame = renderer.render(settings, {false, true, true});

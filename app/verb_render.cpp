@@ -54,15 +54,8 @@ Example:
 
 int renderVerb(int argc, char** argv) {
     cli::Args args(argc, argv, 2, {"validate", "help", "raw-big-endian"});
-    if (args.flag("help")) {
-        std::printf(kRenderHelp, cli::kScanOptionsHelp);
-        return 0;
-    }
-    args.allowOnly(
-        {"iso",      "out",      "size",           "camera",   "crop",       "out-depth",   "out-ids",
-         "device",   "validate", "help",           "raw-dims", "raw-type",   "raw-spacing", "raw-big-endian",
-         "mode",     "tf",       "density-factor", "shading",  "deep-reach", "step",        "map-size",
-         "out-rgba", "peel",     "seeds"});
+    if (cli::printedHelp(args, kRenderHelp)) return 0;
+    args.allowOnly(cli::sceneOptions({"out", "out-depth", "out-ids", "out-rgba"}));
     // Check every option before the (possibly slow) load, so mistakes are reported at once.
     RenderSettings settings = cli::sceneSettings(args, RenderMode::CeirShallow);
     const int width = settings.width, height = settings.height;
@@ -70,10 +63,7 @@ int renderVerb(int argc, char** argv) {
     Volume vol = cli::loadScan(args);
     settings.camera = cli::cameraFor(args, vol, width, height);
 
-    vk::ContextOptions options;
-    options.validation = args.flag("validate");
-    options.device = args.get("device").value_or("");
-    vk::Context ctx(options);
+    vk::Context ctx(cli::contextOptions(args));
     Renderer renderer(ctx);
     renderer.setVolume(vol);
     FrameOutputs wanted;
