@@ -42,8 +42,8 @@ struct RenderSettings {
     LocalTransferFunction tf = defaultTransferFunction(); // CEIR and FVR
     std::optional<double> densityFactor;                  // default: tf.deltaV / smallest spacing
     int mapIntervals = 256;                               // m of the speed-colour map
-    std::optional<double> deepReach;                      // world units; default 16 smallest spacings
-    std::optional<double> fvrStep; // world units; default a quarter of the smallest spacing
+    std::optional<double> deepReach; // world units; default 16 smallest spacings, at most 256 voxels
+    std::optional<double> fvrStep;   // world units; default a quarter of the smallest spacing
 
     // Surface peeling (paper §5.2): crossings to skip, one count per pixel; empty for none.
     std::vector<uint32_t> peelBuffer;
