@@ -157,6 +157,10 @@ void Renderer::setVolume(const Volume& vol) {
     if (vol.dims[0] < 2 || vol.dims[1] < 2 || vol.dims[2] < 2)
         throw std::runtime_error(vol.source +
                                  ": a volume needs at least 2 samples along every axis to hold cells");
+    if (vol.sampleCount() >= (std::size_t(1) << 32))
+        throw std::runtime_error(vol.source + ": " + std::to_string(vol.sampleCount()) +
+                                 " samples: voxel ids are 32-bit, so scans of 2^32 samples or more are not "
+                                 "supported yet (crop or resample the scan)");
     volumeImage_ =
         vk::VolumeImage(ctx_, texelFormat(vol.type), vol.dims[0], vol.dims[1], vol.dims[2], vol.data);
     geometry_ = vol;
