@@ -1,5 +1,6 @@
 // The Vulkan isoSurface pass against the float64 oracle on analytic volumes (lavapipe in CI), the
 // bundled scan against a golden image, and the render graph's own behaviour.
+#include "golden.hpp"
 #include "gpu_fixture.hpp"
 
 #include "io/image_write.hpp"
@@ -111,37 +112,7 @@ TEST_CASE("gpu: the bundled head matches its golden image") {
     s.iso = 500.0;
     s.camera = loadCamera(src / "data/headsq_quarter.camera.json");
     Frame f = renderer.render(s);
-    std::vector<uint8_t> got = encodeSrgb8(f.rgba);
-
-    const auto golden = src / "tests/golden/headsq_skin_128.png";
-    if (std::getenv("ISOSCOPE_UPDATE_GOLDEN")) writePng(golden, 128, 128, got);
-    // Tolerances live beside the image: lavapipe and GPUs round differently at silhouettes.
-    std::ifstream tolFile(src / "tests/golden/headsq_skin_128.json");
-    REQUIRE(tolFile.good());
-    auto tol = nlohmann::json::parse(tolFile);
-    const int maxAbsDiff = tol.at("max_abs_diff").get<int>();
-    const double maxFailing = tol.at("max_failing_pixels_fraction").get<double>();
-    int w = 0, h = 0;
-    std::vector<uint8_t> want = readPng(golden, w, h);
-    REQUIRE(w == 128);
-    REQUIRE(h == 128);
-    int worst = 0;
-    size_t failing = 0;
-    std::vector<uint8_t> diff(want.size(), 255);
-    for (size_t p = 0; p < want.size() / 4; ++p) {
-        int d = 0;
-        for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(got[4 * p + c]) - int(want[4 * p + c])));
-        worst = std::max(worst, d);
-        failing += d > maxAbsDiff;
-        for (int c = 0; c < 3; ++c) diff[4 * p + c] = uint8_t(std::min(255, d * 8));
-    }
-    double fraction = double(failing) / double(want.size() / 4);
-    if (fraction > maxFailing) {
-        auto out = std::filesystem::path(ISOSCOPE_BINARY_DIR) / "golden-diff-headsq_skin_128.png";
-        writePng(out, 128, 128, diff);
-        MESSAGE("golden mismatch: worst difference " << worst << ", failing pixels " << failing
-                                                     << "; diff image " << out.string());
-    }
-    CHECK(fraction <= maxFailing);
+    test::checkGolden("headsq_skin_128",
+                      "data/headsq_quarter.nhdr, iso 500, data/headsq_quarter.camera.json, 128x128, mono", f);
     CHECK(test::gpu().validationMessages() == 0);
 }
