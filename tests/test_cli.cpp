@@ -4,6 +4,8 @@
 #include "oracle/oracle.hpp"
 #include "scene/camera.hpp"
 
+#include "temp_dir.hpp"
+
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
 
@@ -45,19 +47,6 @@ Run runApp(const std::string& args) {
     return {WIFEXITED(raw) ? WEXITSTATUS(raw) : 128, err, slurp(outFile)};
 }
 
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        path = fs::temp_directory_path() / ("isoscope-cli-" + std::to_string(::getpid()));
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    fs::path write(const std::string& name, const std::string& content) const {
-        std::ofstream(path / name, std::ios::binary) << content;
-        return path / name;
-    }
-};
-
 void checkRejected(const std::string& args, const std::string& mustMention, const fs::path& out) {
     Run r = runApp(args + " --out '" + out.string() + "'");
     INFO("isoscope " << args << "\nstderr: " << r.err);
@@ -75,7 +64,7 @@ const std::string kNrrdHead = "NRRD0004\ndimension: 3\nencoding: raw\nendian: li
 } // namespace
 
 TEST_CASE("cli: bad input gets one clear line, a non-zero exit and no output") {
-    TempDir dir;
+    iso::test::TempDir dir("cli");
     fs::path out = dir.path / "out.png";
     SUBCASE("truncated raw data") {
         auto f =

@@ -5,6 +5,8 @@
 #include "colour/transfer_function.hpp"
 #include "io/volume.hpp"
 
+#include "temp_dir.hpp"
+
 #include <doctest/doctest.h>
 
 #include <glm/glm.hpp>
@@ -65,27 +67,6 @@ std::vector<double> logSpeeds(int count) {
     for (int i = 0; i < count; ++i) s[std::size_t(i)] = std::pow(10.0, -3.0 + 6.0 * i / (count - 1));
     return s;
 }
-
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::random_device rd;
-        path = fs::temp_directory_path() /
-               ("isoscope-colour-" + std::to_string(rd()) + "-" + std::to_string(rd()));
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    fs::path write(const std::string& name, const std::string& text) const {
-        const fs::path p = path / name;
-        std::ofstream(p, std::ios::binary) << text;
-        return p;
-    }
-};
 
 const char* const kExample = R"({"delta_v": 100.0, "samples": 64, "points": [
     {"x": 0.0, "rgb": [1, 0.9, 0.2], "alpha": 0.0},
@@ -305,7 +286,7 @@ TEST_CASE("colour: blendColour converges to the continuous volume-rendering inte
 }
 
 TEST_CASE("colour: loadTransferFunction parses the example") {
-    TempDir dir;
+    test::TempDir dir("colour");
     const LocalTransferFunction tf = loadTransferFunction(dir.write("example.json", kExample));
     CHECK(tf.deltaV == 100.0);
     CHECK(tf.samples == 64);
@@ -339,7 +320,7 @@ TEST_CASE("colour: loadTransferFunction parses the example") {
 }
 
 TEST_CASE("colour: loadTransferFunction rejects malformed files and names them") {
-    TempDir dir;
+    test::TempDir dir("colour");
     const std::string p0 = R"({"x": 0.0, "rgb": [1, 0.9, 0.2], "alpha": 0.0})";
     const std::string p1 = R"({"x": 1.0, "rgb": [0.2, 0.2, 0.9], "alpha": 1.0})";
     auto file = [&](const std::string& head, const std::string& points) {
@@ -413,7 +394,7 @@ TEST_CASE("colour: the default transfer function is valid and separates soft fro
     CHECK(tf.deltaV > 0.0);
     CHECK(tf.samples >= 1);
     // The round trip through the file format gives the same function.
-    TempDir dir;
+    test::TempDir dir("colour");
     std::string text = "{\"delta_v\": " + std::to_string(tf.deltaV) +
                        ", \"samples\": " + std::to_string(tf.samples) + ", \"points\": [";
     for (std::size_t i = 0; i < tf.points.size(); ++i) {
@@ -439,7 +420,7 @@ TEST_CASE("colour: the default transfer function is valid and separates soft fro
 }
 
 TEST_CASE("colour: tabulate and rcTransferAt follow the transfer function") {
-    TempDir dir;
+    test::TempDir dir("colour");
     const LocalTransferFunction tf = loadTransferFunction(dir.write("example.json", kExample));
     const int entries = 257;
     const std::vector<glm::vec4> table = tabulate(tf, entries);

@@ -3,6 +3,8 @@
 #include "io/io_util.hpp"
 #include "io/volume.hpp"
 
+#include "temp_dir.hpp"
+
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -18,24 +20,6 @@ namespace fs = std::filesystem;
 using namespace iso;
 
 namespace {
-
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::random_device rd;
-        path =
-            fs::temp_directory_path() / ("isoscope-io-" + std::to_string(rd()) + "-" + std::to_string(rd()));
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    fs::path operator/(const std::string& name) const { return path / name; }
-    std::size_t entries() const { return std::size_t(std::distance(fs::directory_iterator(path), {})); }
-};
 
 using Bytes = std::vector<std::byte>;
 
@@ -166,7 +150,7 @@ TEST_CASE("io: voxel types") {
 }
 
 TEST_CASE("io: NRRD attached raw and gzip") {
-    TempDir dir;
+    test::TempDir dir("io");
     const Bytes data = bytesOf(gridI16());
     writeFile(dir / "a.nrrd", bytesOf(header("short", "\n")) + data);
     checkGridI16(loadVolume(dir / "a.nrrd"));
@@ -184,7 +168,7 @@ TEST_CASE("io: NRRD attached raw and gzip") {
 }
 
 TEST_CASE("io: NRRD detached header with raw and raw.gz data") {
-    TempDir dir;
+    test::TempDir dir("io");
     const Bytes data = bytesOf(gridI16());
     fs::create_directories(dir / "sub");
     writeFile(dir / "sub/x.raw", data);
@@ -196,7 +180,7 @@ TEST_CASE("io: NRRD detached header with raw and raw.gz data") {
 }
 
 TEST_CASE("io: NRRD byte order, skips and value types") {
-    TempDir dir;
+    test::TempDir dir("io");
     SUBCASE("big-endian i16") {
         std::string h = header("short", "\n");
         h.replace(h.find("little"), 6, "big");
@@ -251,7 +235,7 @@ TEST_CASE("io: NRRD byte order, skips and value types") {
 }
 
 TEST_CASE("io: NRRD geometry") {
-    TempDir dir;
+    test::TempDir dir("io");
     const Bytes data = bytesOf(gridI16());
     SUBCASE("spacings") {
         writeFile(dir / "s.nrrd", bytesOf(header("short", "spacings: 0.5 0.75 2\n\n")) + data);
@@ -286,7 +270,7 @@ TEST_CASE("io: NRRD geometry") {
 }
 
 TEST_CASE("io: MetaImage") {
-    TempDir dir;
+    test::TempDir dir("io");
     const Bytes data = bytesOf(gridI16());
     const std::string common =
         "ObjectType = Image\nNDims = 3\nDimSize = 3 2 2\nElementType = MET_SHORT\n"
@@ -327,7 +311,7 @@ TEST_CASE("io: MetaImage") {
 }
 
 TEST_CASE("io: NIfTI") {
-    TempDir dir;
+    test::TempDir dir("io");
     SUBCASE(".nii with sform, RAS converted to LPS") {
         Nifti n(4, 16);
         n.sform({-2, 0, 0, 10, 0, -3, 0, 20, 0, 0, 4, 30});
@@ -387,7 +371,7 @@ TEST_CASE("io: NIfTI") {
 }
 
 TEST_CASE("io: raw with a given layout") {
-    TempDir dir;
+    test::TempDir dir("io");
     RawLayout layout;
     layout.dims = {3, 2, 2};
     layout.type = VoxelType::I16;
@@ -420,7 +404,7 @@ TEST_CASE("io: bundled headsq_quarter scan") {
 }
 
 TEST_CASE("io: malformed inputs throw InputError naming the file") {
-    TempDir dir;
+    test::TempDir dir("io");
     const Bytes data = bytesOf(gridI16());
     SUBCASE("missing file") {
         checkRejects(dir / "nope.nrrd", "nope.nrrd", "not found");
@@ -552,7 +536,7 @@ TEST_CASE("io: malformed inputs throw InputError naming the file") {
 }
 
 TEST_CASE("io: histogram") {
-    TempDir dir;
+    test::TempDir dir("io");
     const std::vector<uint8_t> u8{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 9, 9};
     writeFile(dir / "h.nrrd", bytesOf(header("uchar", "\n")) + bytesOf(u8));
     const Histogram h = histogram(loadVolume(dir / "h.nrrd"), 10);
@@ -563,7 +547,7 @@ TEST_CASE("io: histogram") {
 }
 
 TEST_CASE("io: PNG round trip") {
-    TempDir dir;
+    test::TempDir dir("io");
     std::vector<uint8_t> rgba;
     for (int i = 0; i < 3 * 2 * 4; ++i) rgba.push_back(uint8_t(i * 10));
     writePng(dir / "img.png", 3, 2, rgba);
@@ -578,7 +562,7 @@ TEST_CASE("io: PNG round trip") {
 }
 
 TEST_CASE("io: NRRD image writers round trip") {
-    TempDir dir;
+    test::TempDir dir("io");
     const std::vector<float> f{0.5f, -1, 2, 3.25f, 1e-30f, 7};
     writeNrrd2D(dir / "f.nrrd", 3, 2, f);
     Nrrd2D r = readNrrd2D(dir / "f.nrrd");
@@ -610,7 +594,7 @@ TEST_CASE("io: NRRD image writers round trip") {
 }
 
 TEST_CASE("io: writeFileAtomic never leaves partial output") {
-    TempDir dir;
+    test::TempDir dir("io");
     const auto failing = [](std::ostream& out) {
         out << "partial";
         throw std::runtime_error("disk on fire");
